@@ -1,0 +1,17 @@
+//! Allocation-free path planning for warehouse robots.
+//!
+//! `planner-core` is `#![no_std]`, uses no allocator and never panics on input: every
+//! capacity is chosen by the caller through const generics and every bad input is a typed
+//! error. It builds for the host and for `thumbv7em-none-eabihf` (Cortex-M4F firmware).
+//!
+//! Layers, bottom up:
+//! - [`grid`]: the bit-packed occupancy grid, Moving AI `.map` parsing, inflation;
+//! - [`geometry`]: points, cells and the one collision rule every planner and check shares;
+//! - [`path`]: fixed-capacity paths and their metrics;
+//! - [`search`]: exact reference planners (A*, Theta*) and connectivity labelling;
+//! - [`optim`]: the swarm optimizers of the papers (HHO, TCLHHO, GWO, IGWO, SSA, ...).
+#![no_std]
+#![deny(unsafe_code)]
+#![warn(missing_docs)]
+
+pub mod optim;

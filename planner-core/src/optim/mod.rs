@@ -1,0 +1,1 @@
+//! Swarm optimizers over a box `[lb, ub]^D` with fixed capacity (SPEC section 2).

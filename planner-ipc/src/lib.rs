@@ -1,0 +1,1 @@
+//! The planner service over iceoryx2 shared memory (work in progress: see the roadmap).

@@ -1,0 +1,1 @@
+//! Cross-crate and cross-process integration tests live in `tests/tests/`.
