@@ -14,4 +14,14 @@
 #![deny(unsafe_code)]
 #![warn(missing_docs)]
 
+pub mod error;
+pub mod geometry;
+pub mod grid;
+pub mod math;
 pub mod optim;
+pub mod path;
+pub mod search;
+
+pub use error::{GridError, MapError, PlanError};
+pub use geometry::{Cell, Point};
+pub use grid::{Grid, GridRef, words_for};

@@ -1,0 +1,419 @@
+//! Points, cells and the collision rule shared by every planner and every check.
+//!
+//! SPEC section 1: cell `(x, y)` is the closed unit square centred on `(x, y)`; a segment is
+//! valid only if it touches no blocked cell at all, not even an edge or a corner, and leaving
+//! the map counts as blocked. For one diagonal step between cell centres this is exactly
+//! "no corner cutting": the segment passes through the shared corner, so both side cells
+//! must be free.
+//!
+//! Two implementations of the rule exist on purpose: [`line_of_sight`] is exact integer
+//! arithmetic for segments between cell centres (what the search planners use), and
+//! [`segment_is_clear`] handles fractional waypoints in `f32`, erring on the blocked side by
+//! [`TOUCH_EPS`]. The tests check that they agree on cell centres.
+
+use crate::grid::GridRef;
+
+/// A grid cell, `(x, y)` = (column, row).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, PartialOrd, Ord)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct Cell {
+    /// Column.
+    pub x: u16,
+    /// Row (grows downwards).
+    pub y: u16,
+}
+
+impl Cell {
+    /// A cell from its column and row.
+    pub const fn new(x: u16, y: u16) -> Self {
+        Cell { x, y }
+    }
+
+    /// The continuous point at the cell's centre.
+    pub fn center(self) -> Point {
+        Point::new(self.x as f32, self.y as f32)
+    }
+}
+
+/// A continuous point in cell units: `(x, y)` = the centre of cell `(x, y)` when integral.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct Point {
+    /// Horizontal coordinate (column units).
+    pub x: f32,
+    /// Vertical coordinate (row units, downwards).
+    pub y: f32,
+}
+
+impl Point {
+    /// A point from its coordinates.
+    pub const fn new(x: f32, y: f32) -> Self {
+        Point { x, y }
+    }
+
+    /// Euclidean distance.
+    pub fn distance(self, other: Point) -> f32 {
+        let (dx, dy) = (other.x - self.x, other.y - self.y);
+        crate::math::sqrt(dx * dx + dy * dy)
+    }
+
+    /// Whether both coordinates are finite.
+    pub fn is_finite(self) -> bool {
+        self.x.is_finite() && self.y.is_finite()
+    }
+
+    /// The cell whose square contains the point (ties go to the lower index), if on the map.
+    pub fn cell(self, grid: GridRef<'_>) -> Option<Cell> {
+        if !self.is_finite() {
+            return None;
+        }
+        let (x, y) = (libm::floorf(self.x + 0.5), libm::floorf(self.y + 0.5));
+        grid.contains(x as isize, y as isize)
+            .then(|| Cell::new(x as u16, y as u16))
+    }
+}
+
+impl From<Cell> for Point {
+    fn from(cell: Cell) -> Self {
+        cell.center()
+    }
+}
+
+/// Octile distance between cells: the shortest 8-connected length on an empty map.
+pub fn octile(a: Cell, b: Cell) -> f32 {
+    let dx = (a.x as i32 - b.x as i32).unsigned_abs() as f32;
+    let dy = (a.y as i32 - b.y as i32).unsigned_abs() as f32;
+    let (lo, hi) = if dx < dy { (dx, dy) } else { (dy, dx) };
+    hi + (core::f32::consts::SQRT_2 - 1.0) * lo
+}
+
+/// How far a fractional segment may pass from a blocked cell and still count as touching
+/// it. It only makes [`segment_is_clear`] conservative against `f32` rounding; on maps up
+/// to 4096 cells wide, segments between cell centres either touch a cell exactly or miss
+/// it by more than `1/8192`, so both implementations of the rule agree there.
+pub const TOUCH_EPS: f32 = 1e-4;
+
+/// Exact collision check of the segment between two cell centres (integer arithmetic).
+///
+/// ```
+/// use planner_core::{geometry::{line_of_sight, Cell}, grid::{words_for, Grid}};
+///
+/// let grid: Grid<{ words_for(3, 3) }> = Grid::parse_rows(b"...\n.@.\n...\n")?;
+/// assert!(line_of_sight(grid.view(), Cell::new(0, 0), Cell::new(2, 0)));
+/// assert!(!line_of_sight(grid.view(), Cell::new(0, 0), Cell::new(2, 2)));
+/// // A diagonal step past the obstacle touches its corner: no corner cutting.
+/// assert!(!line_of_sight(grid.view(), Cell::new(1, 0), Cell::new(2, 1)));
+/// # Ok::<(), planner_core::error::MapError>(())
+/// ```
+pub fn line_of_sight(grid: GridRef<'_>, a: Cell, b: Cell) -> bool {
+    let (a, b) = if a.x <= b.x { (a, b) } else { (b, a) };
+    let (x0, y0, x1, y1) = (a.x as i64, a.y as i64, b.x as i64, b.y as i64);
+    let dx = x1 - x0;
+    let dy = y1 - y0;
+    if dx == 0 {
+        let (lo, hi) = if y0 <= y1 { (y0, y1) } else { (y1, y0) };
+        return (lo..=hi).all(|y| !grid.is_blocked(x0 as isize, y as isize));
+    }
+    // Work in units of 1/(2 dx): the segment's height at x is (2 dx y0 + (2x - 2x0) dy).
+    // Column c spans x in [c - 1/2, c + 1/2]; row r is touched when the segment's height
+    // range over that span meets [r - 1/2, r + 1/2] (closed: corners count).
+    for c in x0..=x1 {
+        let left2 = (2 * c - 1).max(2 * x0);
+        let right2 = (2 * c + 1).min(2 * x1);
+        let h_left = 2 * dx * y0 + (left2 - 2 * x0) * dy;
+        let h_right = 2 * dx * y0 + (right2 - 2 * x0) * dy;
+        let (lo, hi) = if h_left <= h_right {
+            (h_left, h_right)
+        } else {
+            (h_right, h_left)
+        };
+        let r0 = div_ceil(lo - dx, 2 * dx);
+        let r1 = div_floor(hi + dx, 2 * dx);
+        for r in r0..=r1 {
+            if grid.is_blocked(c as isize, r as isize) {
+                return false;
+            }
+        }
+    }
+    true
+}
+
+/// Collision check of a segment between arbitrary points under the same rule, in `f32`
+/// (conservative by [`TOUCH_EPS`]). Non-finite points and points on or beyond the map's
+/// outer edge are invalid.
+pub fn segment_is_clear(grid: GridRef<'_>, a: Point, b: Point) -> bool {
+    let inside = |p: Point| {
+        p.is_finite()
+            && p.x > -0.5 + TOUCH_EPS
+            && p.y > -0.5 + TOUCH_EPS
+            && p.x < grid.width() as f32 - 0.5 - TOUCH_EPS
+            && p.y < grid.height() as f32 - 0.5 - TOUCH_EPS
+    };
+    // The map is convex, so both ends inside bound every loop below by the map size.
+    if !inside(a) || !inside(b) {
+        return false;
+    }
+    let (a, b) = if a.x <= b.x { (a, b) } else { (b, a) };
+    let (dx, dy) = (b.x - a.x, b.y - a.y);
+    let c0 = libm::ceilf(a.x - 0.5 - TOUCH_EPS) as isize;
+    let c1 = libm::floorf(b.x + 0.5 + TOUCH_EPS) as isize;
+    for c in c0..=c1 {
+        let (lo, hi) = if dx == 0.0 {
+            (a.y.min(b.y), a.y.max(b.y))
+        } else {
+            let xl = a.x.max(c as f32 - 0.5);
+            let xr = b.x.min(c as f32 + 0.5);
+            // Multiply before dividing: exact whenever the true height is representable,
+            // which keeps corner touches between cell centres exact.
+            let yl = a.y + (xl - a.x) * dy / dx;
+            let yr = a.y + (xr - a.x) * dy / dx;
+            (yl.min(yr), yl.max(yr))
+        };
+        let r0 = libm::ceilf(lo - 0.5 - TOUCH_EPS) as isize;
+        let r1 = libm::floorf(hi + 0.5 + TOUCH_EPS) as isize;
+        for r in r0..=r1 {
+            if grid.is_blocked(c, r) {
+                return false;
+            }
+        }
+    }
+    true
+}
+
+/// Distance from a segment to the nearest blocked cell (or the map's outside), capped at
+/// `max`. Zero when the segment touches a blocked cell.
+pub fn segment_clearance(grid: GridRef<'_>, a: Point, b: Point, max: f32) -> f32 {
+    if !a.is_finite() || !b.is_finite() || !(max >= 0.0) {
+        return 0.0;
+    }
+    let max = max.min((grid.width() + grid.height()) as f32);
+    let reach = max + 1.0;
+    let clamp = |v: f32, hi: usize| libm::floorf(v).clamp(-1.0, hi as f32) as isize;
+    let x0 = clamp(a.x.min(b.x) - reach, grid.width());
+    let x1 = clamp(a.x.max(b.x) + reach + 1.0, grid.width());
+    let y0 = clamp(a.y.min(b.y) - reach, grid.height());
+    let y1 = clamp(a.y.max(b.y) + reach + 1.0, grid.height());
+    let mut best = max;
+    for y in y0..=y1 {
+        for x in x0..=x1 {
+            if grid.is_blocked(x, y) {
+                best = best.min(segment_square_distance(
+                    a,
+                    b,
+                    Point::new(x as f32, y as f32),
+                ));
+            }
+        }
+    }
+    best
+}
+
+/// Distance between segment `ab` and the closed unit square centred on `c`.
+fn segment_square_distance(a: Point, b: Point, c: Point) -> f32 {
+    if segment_meets_square(a, b, c) {
+        return 0.0;
+    }
+    // Two disjoint convex sets are closest at a vertex of one of them.
+    let corners = [(-0.5, -0.5), (0.5, -0.5), (0.5, 0.5), (-0.5, 0.5)];
+    let mut best = point_square_distance(a, c).min(point_square_distance(b, c));
+    for (ox, oy) in corners {
+        best = best.min(point_segment_distance(Point::new(c.x + ox, c.y + oy), a, b));
+    }
+    best
+}
+
+fn point_square_distance(p: Point, c: Point) -> f32 {
+    let gx = ((p.x - c.x).abs() - 0.5).max(0.0);
+    let gy = ((p.y - c.y).abs() - 0.5).max(0.0);
+    crate::math::sqrt(gx * gx + gy * gy)
+}
+
+fn point_segment_distance(p: Point, a: Point, b: Point) -> f32 {
+    let (dx, dy) = (b.x - a.x, b.y - a.y);
+    let len2 = dx * dx + dy * dy;
+    let t = if len2 > 0.0 {
+        (((p.x - a.x) * dx + (p.y - a.y) * dy) / len2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    p.distance(Point::new(a.x + t * dx, a.y + t * dy))
+}
+
+/// Liang-Barsky clip of segment `ab` against the closed square centred on `c`.
+fn segment_meets_square(a: Point, b: Point, c: Point) -> bool {
+    let (dx, dy) = (b.x - a.x, b.y - a.y);
+    let (mut t0, mut t1) = (0.0f32, 1.0f32);
+    let edges = [
+        (-dx, a.x - (c.x - 0.5)),
+        (dx, (c.x + 0.5) - a.x),
+        (-dy, a.y - (c.y - 0.5)),
+        (dy, (c.y + 0.5) - a.y),
+    ];
+    for (p, q) in edges {
+        if p == 0.0 {
+            if q < 0.0 {
+                return false;
+            }
+        } else {
+            let t = q / p;
+            if p < 0.0 {
+                t0 = t0.max(t);
+            } else {
+                t1 = t1.min(t);
+            }
+            if t0 > t1 {
+                return false;
+            }
+        }
+    }
+    true
+}
+
+fn div_floor(a: i64, b: i64) -> i64 {
+    let q = a / b;
+    if (a % b != 0) && ((a < 0) != (b < 0)) {
+        q - 1
+    } else {
+        q
+    }
+}
+
+fn div_ceil(a: i64, b: i64) -> i64 {
+    -div_floor(-a, b)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::grid::{Grid, words_for};
+
+    type G = Grid<{ words_for(16, 16) }>;
+
+    fn grid(rows: &[u8]) -> G {
+        G::parse_rows(rows).unwrap()
+    }
+
+    #[test]
+    fn diagonal_step_needs_both_side_cells() {
+        for rows in [&b"..\n@.\n"[..], b".@\n..\n"] {
+            let g = grid(rows);
+            assert!(!line_of_sight(g.view(), Cell::new(0, 0), Cell::new(1, 1)));
+            assert!(!segment_is_clear(
+                g.view(),
+                Point::new(0.0, 0.0),
+                Point::new(1.0, 1.0)
+            ));
+        }
+        let g = grid(b"..\n..\n");
+        assert!(line_of_sight(g.view(), Cell::new(0, 0), Cell::new(1, 1)));
+        assert!(segment_is_clear(
+            g.view(),
+            Point::new(0.0, 0.0),
+            Point::new(1.0, 1.0)
+        ));
+    }
+
+    #[test]
+    fn corner_touch_on_a_long_line_is_a_collision() {
+        // (0,0) -> (3,1) passes through (1.5, 0.5), the corner of cells (1,0),(2,0),(1,1),(2,1).
+        for blocked in [(2usize, 1usize), (1, 1), (2, 0), (1, 0)] {
+            let mut g = G::new(4, 3).unwrap();
+            g.set_blocked(blocked.0, blocked.1, true).unwrap();
+            assert!(
+                !line_of_sight(g.view(), Cell::new(0, 0), Cell::new(3, 1)),
+                "{blocked:?}"
+            );
+            assert!(!segment_is_clear(
+                g.view(),
+                Point::new(0.0, 0.0),
+                Point::new(3.0, 1.0)
+            ));
+        }
+        // A cell the line misses by a margin stays irrelevant.
+        let mut g = G::new(4, 3).unwrap();
+        g.set_blocked(0, 1, true).unwrap();
+        assert!(line_of_sight(g.view(), Cell::new(0, 0), Cell::new(3, 1)));
+        assert!(segment_is_clear(
+            g.view(),
+            Point::new(0.0, 0.0),
+            Point::new(3.0, 1.0)
+        ));
+    }
+
+    #[test]
+    fn leaving_the_map_is_blocked() {
+        let g = G::new(3, 3).unwrap();
+        assert!(!segment_is_clear(
+            g.view(),
+            Point::new(0.0, 0.0),
+            Point::new(-0.6, 0.0)
+        ));
+        assert!(!segment_is_clear(
+            g.view(),
+            Point::new(0.0, 0.0),
+            Point::new(f32::NAN, 0.0)
+        ));
+        assert!(segment_is_clear(
+            g.view(),
+            Point::new(0.0, 0.0),
+            Point::new(2.0, 2.0)
+        ));
+    }
+
+    #[test]
+    fn fractional_segments() {
+        let g = grid(b"...\n.@.\n...\n");
+        assert!(segment_is_clear(
+            g.view(),
+            Point::new(0.0, 0.0),
+            Point::new(2.0, 0.0)
+        ));
+        // y = 0.4 keeps 0.1 away from the blocked square's top edge at 0.5.
+        assert!(segment_is_clear(
+            g.view(),
+            Point::new(0.0, 0.4),
+            Point::new(2.0, 0.4)
+        ));
+        assert!(!segment_is_clear(
+            g.view(),
+            Point::new(0.0, 0.5),
+            Point::new(2.0, 0.5)
+        ));
+        assert!(!segment_is_clear(
+            g.view(),
+            Point::new(0.2, 0.2),
+            Point::new(1.8, 1.8)
+        ));
+    }
+
+    #[test]
+    fn clearance_is_exact_for_simple_cases() {
+        let g = grid(b".....\n.....\n..@..\n.....\n.....\n");
+        let c = segment_clearance(g.view(), Point::new(0.0, 0.0), Point::new(4.0, 0.0), 10.0);
+        // The obstacle's top edge is at y = 1.5; the map border is 0.5 above the segment.
+        assert!((c - 0.5).abs() < 1e-6, "{c}");
+        let c = segment_clearance(g.view(), Point::new(1.0, 1.0), Point::new(1.0, 1.0), 10.0);
+        // Nearest is the obstacle's corner at (1.5, 1.5).
+        assert!((c - core::f32::consts::FRAC_1_SQRT_2).abs() < 1e-6, "{c}");
+        assert_eq!(
+            segment_clearance(g.view(), Point::new(2.0, 0.0), Point::new(2.0, 4.0), 9.0),
+            0.0
+        );
+    }
+
+    #[test]
+    fn octile_matches_definition() {
+        assert_eq!(octile(Cell::new(0, 0), Cell::new(3, 0)), 3.0);
+        let d = octile(Cell::new(0, 0), Cell::new(3, 5));
+        assert!((d - (2.0 + 3.0 * core::f32::consts::SQRT_2)).abs() < 1e-5);
+    }
+
+    #[test]
+    fn integer_division_helpers() {
+        assert_eq!(div_floor(-3, 2), -2);
+        assert_eq!(div_floor(3, 2), 1);
+        assert_eq!(div_ceil(-3, 2), -1);
+        assert_eq!(div_ceil(3, 2), 2);
+        assert_eq!(div_ceil(4, 2), 2);
+    }
+}

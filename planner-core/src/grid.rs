@@ -1,0 +1,499 @@
+//! The occupancy grid: bit-packed, fixed capacity, parsed from Moving AI `.map` text.
+//!
+//! Coordinates follow SPEC section 1: `(x, y)` = (column, row), `(0, 0)` is the upper-left
+//! cell and `y` grows downwards. A set bit means *blocked*; everything outside the map is
+//! blocked too, so planners never need a separate bounds rule.
+//!
+//! [`Grid`] owns its storage (`WORDS` 32-bit words, see [`words_for`]) so firmware can keep
+//! it in a `static`; algorithms take the non-generic [`GridRef`] view so that their code is
+//! not duplicated for every capacity.
+//!
+//! ```
+//! use planner_core::grid::{words_for, Grid};
+//!
+//! let text = b"type octile\nheight 2\nwidth 3\nmap\n..@\n...\n";
+//! let grid: Grid<{ words_for(3, 2) }> = Grid::parse_movingai(text)?;
+//! assert!(grid.view().is_blocked(2, 0));
+//! assert!(grid.view().is_blocked(-1, 0)); // outside counts as blocked
+//! # Ok::<(), planner_core::error::MapError>(())
+//! ```
+
+use crate::error::{GridError, MapError};
+use crate::geometry::Cell;
+
+/// The number of 32-bit words a `width x height` grid needs: use it as the capacity.
+pub const fn words_for(width: usize, height: usize) -> usize {
+    (width * height).div_ceil(32)
+}
+
+/// Largest side length: cell coordinates are stored as `u16`.
+pub const MAX_SIDE: usize = u16::MAX as usize;
+
+/// A bit-packed occupancy grid holding up to `WORDS * 32` cells.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Grid<const WORDS: usize> {
+    width: usize,
+    height: usize,
+    bits: [u32; WORDS],
+}
+
+/// A borrowed, capacity-independent view of a grid.
+#[derive(Clone, Copy, Debug)]
+pub struct GridRef<'a> {
+    width: usize,
+    height: usize,
+    bits: &'a [u32],
+}
+
+impl<const WORDS: usize> Grid<WORDS> {
+    /// The number of cells this grid type can hold.
+    pub const CAPACITY: usize = WORDS * 32;
+
+    /// An all-free grid of the given size.
+    pub const fn new(width: usize, height: usize) -> Result<Self, GridError> {
+        if width == 0 || height == 0 || width > MAX_SIDE || height > MAX_SIDE {
+            return Err(GridError::CapacityExceeded);
+        }
+        match width.checked_mul(height) {
+            Some(cells) if cells <= Self::CAPACITY => Ok(Grid {
+                width,
+                height,
+                bits: [0; WORDS],
+            }),
+            _ => Err(GridError::CapacityExceeded),
+        }
+    }
+
+    /// Width in cells.
+    pub const fn width(&self) -> usize {
+        self.width
+    }
+
+    /// Height in cells.
+    pub const fn height(&self) -> usize {
+        self.height
+    }
+
+    /// The capacity-independent view that planners take.
+    pub fn view(&self) -> GridRef<'_> {
+        GridRef {
+            width: self.width,
+            height: self.height,
+            bits: &self.bits,
+        }
+    }
+
+    /// Marks a cell blocked (`true`) or free (`false`).
+    pub fn set_blocked(&mut self, x: usize, y: usize, blocked: bool) -> Result<(), GridError> {
+        if x >= self.width || y >= self.height {
+            return Err(GridError::OutOfBounds);
+        }
+        let i = y * self.width + x;
+        let (word, bit) = (i / 32, i % 32);
+        let slot = self.bits.get_mut(word).ok_or(GridError::OutOfBounds)?;
+        if blocked {
+            *slot |= 1 << bit;
+        } else {
+            *slot &= !(1 << bit);
+        }
+        Ok(())
+    }
+
+    /// Parses Moving AI `.map` text: `type octile`, `height H`, `width W`, `map`, then `H`
+    /// rows of `W` characters. `.` and `G` are free; `@ O T S W` are blocked (stricter than
+    /// the format page for `S` and `W`, as SPEC says). CRLF line ends are accepted.
+    pub fn parse_movingai(text: &[u8]) -> Result<Self, MapError> {
+        let mut lines = Lines::new(text);
+        let mut width = None;
+        let mut height = None;
+        let mut saw_type = false;
+        loop {
+            let (no, line) = lines.next().ok_or(MapError::MalformedHeader {
+                line: lines.line_no + 1,
+            })?;
+            let mut words = line
+                .split(|b| *b == b' ' || *b == b'\t')
+                .filter(|w| !w.is_empty());
+            let key = words.next();
+            let value = words.next();
+            if words.next().is_some() {
+                return Err(MapError::MalformedHeader { line: no });
+            }
+            match (key, value) {
+                (Some(b"type"), Some(kind)) if !saw_type => {
+                    if kind != b"octile" {
+                        return Err(MapError::UnsupportedType);
+                    }
+                    saw_type = true;
+                }
+                (Some(b"height"), Some(v)) if height.is_none() => {
+                    height =
+                        Some(parse_dimension(v).ok_or(MapError::MalformedHeader { line: no })?);
+                }
+                (Some(b"width"), Some(v)) if width.is_none() => {
+                    width = Some(parse_dimension(v).ok_or(MapError::MalformedHeader { line: no })?);
+                }
+                (Some(b"map"), None) => break,
+                _ => return Err(MapError::MalformedHeader { line: no }),
+            }
+        }
+        let (Some(width), Some(height), true) = (width, height, saw_type) else {
+            return Err(MapError::MalformedHeader {
+                line: lines.line_no,
+            });
+        };
+        let mut grid = Self::new(width, height).map_err(|_| {
+            if width == 0 || height == 0 {
+                MapError::EmptyMap
+            } else {
+                MapError::CapacityExceeded { width, height }
+            }
+        })?;
+        for row in 0..height {
+            let (_, line) = lines.next().ok_or(MapError::MissingRows {
+                expected: height,
+                found: row,
+            })?;
+            grid.fill_row(row, line)?;
+        }
+        for (no, line) in lines {
+            if !line.iter().all(|b| b.is_ascii_whitespace()) {
+                return Err(MapError::TrailingData { line: no });
+            }
+        }
+        Ok(grid)
+    }
+
+    /// Parses bare rows of terrain characters (no header): all rows must have the same length.
+    /// Handy for tests and generated maps.
+    pub fn parse_rows(text: &[u8]) -> Result<Self, MapError> {
+        let mut lines = Lines::new(text).filter(|(_, l)| !l.is_empty());
+        let mut height = 0;
+        let mut width = 0;
+        for (_, line) in lines.by_ref() {
+            if height == 0 {
+                width = line.len();
+            }
+            height += 1;
+        }
+        let mut grid = Self::new(width, height).map_err(|_| {
+            if width == 0 || height == 0 {
+                MapError::EmptyMap
+            } else {
+                MapError::CapacityExceeded { width, height }
+            }
+        })?;
+        for (row, (_, line)) in Lines::new(text).filter(|(_, l)| !l.is_empty()).enumerate() {
+            grid.fill_row(row, line)?;
+        }
+        Ok(grid)
+    }
+
+    fn fill_row(&mut self, row: usize, line: &[u8]) -> Result<(), MapError> {
+        if line.len() != self.width {
+            return Err(MapError::WrongRowLength {
+                row: row + 1,
+                expected: self.width,
+                found: line.len(),
+            });
+        }
+        for (x, &byte) in line.iter().enumerate() {
+            let blocked = match byte {
+                b'.' | b'G' => false,
+                b'@' | b'O' | b'T' | b'S' | b'W' => true,
+                _ => {
+                    return Err(MapError::UnknownCharacter {
+                        row: row + 1,
+                        column: x + 1,
+                        byte,
+                    });
+                }
+            };
+            // Cannot fail: row < height and x < width were checked above.
+            let _ = self.set_blocked(x, row, blocked);
+        }
+        Ok(())
+    }
+
+    /// Writes into `out` this grid inflated by a robot `radius` (in cells): a cell becomes
+    /// blocked when its square comes *closer* than `radius` to a blocked cell's square.
+    ///
+    /// Every point of a free cell of the result is then at least `radius` from every
+    /// obstacle of this grid (including the map border), so a path that is valid on the
+    /// inflated grid keeps that clearance. `radius == 0` copies the grid.
+    pub fn inflate_into<const W2: usize>(
+        &self,
+        radius: f32,
+        out: &mut Grid<W2>,
+    ) -> Result<(), GridError> {
+        if !radius.is_finite() || radius < 0.0 {
+            return Err(GridError::InvalidRadius);
+        }
+        *out = Grid::new(self.width, self.height)?;
+        // Offsets (dx, dy) whose squares lie closer than `radius`: the gap between two unit
+        // squares whose centres differ by d is max(|d| - 1, 0) on each axis.
+        let reach = libm::ceilf(radius) as isize;
+        let view = self.view();
+        for y in 0..self.height as isize {
+            for x in 0..self.width as isize {
+                let mut blocked = view.is_blocked(x, y);
+                'scan: for dy in -reach..=reach {
+                    for dx in -reach..=reach {
+                        let gx = (dx.unsigned_abs() as f32 - 1.0).max(0.0);
+                        let gy = (dy.unsigned_abs() as f32 - 1.0).max(0.0);
+                        if gx * gx + gy * gy < radius * radius && view.is_blocked(x + dx, y + dy) {
+                            blocked = true;
+                            break 'scan;
+                        }
+                    }
+                }
+                if blocked {
+                    out.set_blocked(x as usize, y as usize, true)?;
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+impl<'a> GridRef<'a> {
+    /// Width in cells.
+    pub const fn width(&self) -> usize {
+        self.width
+    }
+
+    /// Height in cells.
+    pub const fn height(&self) -> usize {
+        self.height
+    }
+
+    /// Number of cells.
+    pub const fn cells(&self) -> usize {
+        self.width * self.height
+    }
+
+    /// Whether `(x, y)` lies on the map.
+    pub fn contains(&self, x: isize, y: isize) -> bool {
+        x >= 0 && y >= 0 && (x as usize) < self.width && (y as usize) < self.height
+    }
+
+    /// Blocked cells and cells outside the map are blocked.
+    #[inline]
+    pub fn is_blocked(&self, x: isize, y: isize) -> bool {
+        if !self.contains(x, y) {
+            return true;
+        }
+        let i = y as usize * self.width + x as usize;
+        match self.bits.get(i / 32) {
+            Some(word) => word & (1 << (i % 32)) != 0,
+            None => true,
+        }
+    }
+
+    /// Whether a cell is on the map and free.
+    #[inline]
+    pub fn is_free(&self, cell: Cell) -> bool {
+        !self.is_blocked(cell.x as isize, cell.y as isize)
+    }
+
+    /// Row-major index of a cell (`y * width + x`); `None` outside the map.
+    #[inline]
+    pub fn index(&self, cell: Cell) -> Option<usize> {
+        let (x, y) = (cell.x as usize, cell.y as usize);
+        (x < self.width && y < self.height).then_some(y * self.width + x)
+    }
+
+    /// The cell of a row-major index.
+    #[inline]
+    pub fn cell(&self, index: usize) -> Cell {
+        Cell::new((index % self.width) as u16, (index / self.width) as u16)
+    }
+
+    /// Number of blocked cells on the map.
+    pub fn blocked_count(&self) -> usize {
+        (0..self.cells())
+            .filter(|&i| self.is_blocked((i % self.width) as isize, (i / self.width) as isize))
+            .count()
+    }
+}
+
+/// Parses a decimal side length; `None` for anything but 1-6 ASCII digits.
+fn parse_dimension(text: &[u8]) -> Option<usize> {
+    if text.is_empty() || text.len() > 6 {
+        return None;
+    }
+    text.iter().try_fold(0usize, |acc, &b| {
+        b.is_ascii_digit().then(|| acc * 10 + (b - b'0') as usize)
+    })
+}
+
+/// Lines of a byte slice with 1-based numbers, without the `\n` or `\r\n`.
+struct Lines<'t> {
+    rest: &'t [u8],
+    line_no: usize,
+}
+
+impl<'t> Lines<'t> {
+    fn new(text: &'t [u8]) -> Self {
+        Lines {
+            rest: text,
+            line_no: 0,
+        }
+    }
+}
+
+impl<'t> Iterator for Lines<'t> {
+    type Item = (usize, &'t [u8]);
+
+    fn next(&mut self) -> Option<Self::Item> {
+        if self.rest.is_empty() {
+            return None;
+        }
+        let (line, rest) = match self.rest.iter().position(|&b| b == b'\n') {
+            Some(n) => (&self.rest[..n], &self.rest[n + 1..]),
+            None => (self.rest, &[][..]),
+        };
+        self.rest = rest;
+        self.line_no += 1;
+        let line = line.strip_suffix(b"\r").unwrap_or(line);
+        Some((self.line_no, line))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    type Small = Grid<{ words_for(8, 8) }>;
+
+    const HEADER: &[u8] = b"type octile\nheight 2\nwidth 3\nmap\n";
+
+    fn with_rows(rows: &[u8]) -> heapless::Vec<u8, 256> {
+        let mut v = heapless::Vec::new();
+        v.extend_from_slice(HEADER).unwrap();
+        v.extend_from_slice(rows).unwrap();
+        v
+    }
+
+    #[test]
+    fn parses_terrain_codes() {
+        let g = Small::parse_movingai(&with_rows(b".G@\nOTS\n")).unwrap();
+        let v = g.view();
+        assert!(!v.is_blocked(0, 0) && !v.is_blocked(1, 0));
+        assert!((0..3).all(|x| v.is_blocked(x, 1)) && v.is_blocked(2, 0));
+        assert_eq!((v.width(), v.height()), (3, 2));
+    }
+
+    #[test]
+    fn accepts_crlf_and_trailing_blank_lines() {
+        let g = Small::parse_movingai(
+            b"type octile\r\nheight 2\r\nwidth 3\r\nmap\r\n...\r\n..@\r\n\r\n",
+        )
+        .unwrap();
+        assert!(g.view().is_blocked(2, 1));
+    }
+
+    #[test]
+    fn every_map_error_is_reachable() {
+        let cases: [(&[u8], MapError); 9] = [
+            (b"", MapError::MalformedHeader { line: 1 }),
+            (
+                b"type octile\nheight x\n",
+                MapError::MalformedHeader { line: 2 },
+            ),
+            (b"type grid\n", MapError::UnsupportedType),
+            (b"type octile\nheight 0\nwidth 3\nmap\n", MapError::EmptyMap),
+            (
+                b"type octile\nheight 9\nwidth 9\nmap\n",
+                MapError::CapacityExceeded {
+                    width: 9,
+                    height: 9,
+                },
+            ),
+            (
+                &with_rows(b"...\n....\n"),
+                MapError::WrongRowLength {
+                    row: 2,
+                    expected: 3,
+                    found: 4,
+                },
+            ),
+            (
+                &with_rows(b"...\n.x.\n"),
+                MapError::UnknownCharacter {
+                    row: 2,
+                    column: 2,
+                    byte: b'x',
+                },
+            ),
+            (
+                &with_rows(b"...\n"),
+                MapError::MissingRows {
+                    expected: 2,
+                    found: 1,
+                },
+            ),
+            (
+                &with_rows(b"...\n...\n...\n"),
+                MapError::TrailingData { line: 7 },
+            ),
+        ];
+        for (text, want) in cases {
+            assert_eq!(
+                Small::parse_movingai(text),
+                Err(want),
+                "{:?}",
+                core::str::from_utf8(text)
+            );
+        }
+    }
+
+    #[test]
+    fn rejects_header_without_map_line_and_duplicates() {
+        assert!(matches!(
+            Small::parse_movingai(b"type octile\nheight 2\nwidth 2\n"),
+            Err(MapError::MalformedHeader { .. })
+        ));
+        assert!(matches!(
+            Small::parse_movingai(b"type octile\nheight 2\nheight 2\nwidth 2\nmap\n..\n..\n"),
+            Err(MapError::MalformedHeader { line: 3 })
+        ));
+    }
+
+    #[test]
+    fn outside_is_blocked_and_index_round_trips() {
+        let g = Small::new(5, 4).unwrap();
+        let v = g.view();
+        assert!(v.is_blocked(-1, 0) && v.is_blocked(5, 0) && v.is_blocked(0, 4));
+        for i in 0..v.cells() {
+            assert_eq!(v.index(v.cell(i)), Some(i));
+        }
+        assert_eq!(v.index(Cell::new(5, 0)), None);
+    }
+
+    #[test]
+    fn new_and_set_report_errors() {
+        assert_eq!(Small::new(0, 3), Err(GridError::CapacityExceeded));
+        assert_eq!(Small::new(9, 8), Err(GridError::CapacityExceeded));
+        let mut g = Small::new(2, 2).unwrap();
+        assert_eq!(g.set_blocked(2, 0, true), Err(GridError::OutOfBounds));
+    }
+
+    #[test]
+    fn inflation_blocks_squares_closer_than_radius() {
+        let mut g = Small::new(7, 7).unwrap();
+        g.set_blocked(3, 3, true).unwrap();
+        let mut out = Small::new(1, 1).unwrap();
+        g.inflate_into(0.0, &mut out).unwrap();
+        assert_eq!(out, g);
+        g.inflate_into(0.5, &mut out).unwrap();
+        // The eight neighbours touch the obstacle square; cells two away are 1.0 away.
+        // The border ring touches the outside, which counts as blocked.
+        assert_eq!(out.view().blocked_count(), 9 + 24);
+        g.inflate_into(f32::NAN, &mut out).unwrap_err();
+        assert_eq!(
+            g.inflate_into(-1.0, &mut out),
+            Err(GridError::InvalidRadius)
+        );
+    }
+}
