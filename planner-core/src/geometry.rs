@@ -183,7 +183,7 @@ pub fn segment_is_clear(grid: GridRef<'_>, a: Point, b: Point) -> bool {
 /// Distance from a segment to the nearest blocked cell (or the map's outside), capped at
 /// `max`. Zero when the segment touches a blocked cell.
 pub fn segment_clearance(grid: GridRef<'_>, a: Point, b: Point, max: f32) -> f32 {
-    if !a.is_finite() || !b.is_finite() || !(max >= 0.0) {
+    if !a.is_finite() || !b.is_finite() || max.is_nan() || max < 0.0 {
         return 0.0;
     }
     let max = max.min((grid.width() + grid.height()) as f32);
