@@ -1,1 +1,32 @@
-fn main() {}
+//! `host-sim`: the front door of the warehouse planner.
+//!
+//! Subcommands:
+//! - `plan`: plan queries on a Moving AI `.map` and print one JSON object a line.
+
+use clap::{Parser, Subcommand};
+
+mod cmd;
+mod maps;
+
+#[derive(Parser)]
+#[command(
+    name = "host-sim",
+    version,
+    about = "Warehouse robot path planning: planners, simulator and benchmarks"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Plan paths on a map; one JSON object per query.
+    Plan(cmd::plan::PlanArgs),
+}
+
+fn main() -> anyhow::Result<()> {
+    match Cli::parse().command {
+        Command::Plan(args) => cmd::plan::run(&args),
+    }
+}
