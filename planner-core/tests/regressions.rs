@@ -49,3 +49,47 @@ fn point_cell_sends_ties_to_the_lower_index() {
     assert_eq!(Point::new(-0.5, 0.0).cell(v), None);
     assert_eq!(Point::new(f32::NAN, 0.0).cell(v), None);
 }
+
+/// The planners no longer clear all search nodes per query: they reset what they touched
+/// on every exit. After an early error (path buffer too small, mid-way through writing the
+/// path) and after interleaved A* / Theta* runs, the same storage still gives the answers
+/// of fresh storage. (Test builds also `debug_assert` that storage is clean on entry.)
+#[test]
+fn search_storage_is_clean_after_every_exit() {
+    use planner_core::PlanError;
+    use planner_core::path::Path;
+    use planner_core::search::{SearchNode, astar, theta};
+    let g = Grid::<{ words_for(8, 6) }>::parse_rows(
+        b"........\n.@@@@@..\n......@.\n.@@@@.@.\n.@....@.\n...@@...\n",
+    )
+    .unwrap();
+    let v = g.view();
+    let (s, t) = (Cell::new(0, 0), Cell::new(7, 5));
+    let mut reused = vec![SearchNode::EMPTY; v.cells()];
+    let mut tiny: Path<3> = Path::new();
+    for _ in 0..3 {
+        assert_eq!(
+            astar::plan(v, s, t, &mut reused, &mut tiny),
+            Err(PlanError::CapacityExceeded)
+        );
+        assert_eq!(
+            theta::plan(v, Cell::new(2, 4), t, &mut reused, &mut tiny),
+            Err(PlanError::CapacityExceeded)
+        );
+        for (a, b) in [(s, t), (t, s), (Cell::new(2, 4), Cell::new(7, 0))] {
+            let (mut p1, mut p2): (Path<64>, Path<64>) = (Path::new(), Path::new());
+            let mut fresh = vec![SearchNode::EMPTY; v.cells()];
+            assert_eq!(
+                astar::plan(v, a, b, &mut reused, &mut p1),
+                astar::plan(v, a, b, &mut fresh, &mut p2)
+            );
+            assert_eq!(p1, p2);
+            let mut fresh = vec![SearchNode::EMPTY; v.cells()];
+            assert_eq!(
+                theta::plan(v, a, b, &mut reused, &mut p1),
+                theta::plan(v, a, b, &mut fresh, &mut p2)
+            );
+            assert_eq!(p1, p2);
+        }
+    }
+}
