@@ -93,3 +93,40 @@ fn search_storage_is_clean_after_every_exit() {
         }
     }
 }
+
+/// `prune_collinear` merged "collinear" nodes with a relative tolerance of 1e-6, so on a
+/// warehouse-sized map it removed a node 8e-5 off the chord: the valid path
+/// (0, y0) -> (170, y0 - 8e-5) -> (340, y0), which clears the blocked cell (170, 2) by
+/// 1.5e-4, became the chord at y0 = 1.5 - 7e-5, which `validate` rejects (it passes within
+/// `TOUCH_EPS` of the cell). The doc promises the shape never changes: only exactly
+/// collinear nodes may go.
+#[test]
+fn prune_collinear_keeps_a_bend_that_avoids_an_obstacle() {
+    use planner_core::path::{self, Path};
+    let mut g = Grid::<{ words_for(341, 5) }>::new(341, 5).unwrap();
+    g.set_blocked(170, 2, true).unwrap();
+    let v = g.view();
+    let y0 = 1.5f32 - 7e-5;
+    let mut p: Path<4> = [
+        Point::new(0.0, y0),
+        Point::new(170.0, y0 - 8e-5),
+        Point::new(340.0, y0),
+    ]
+    .into_iter()
+    .collect();
+    let valid = |p: &[Point]| p.windows(2).all(|w| segment_is_clear(v, w[0], w[1]));
+    assert!(valid(&p));
+    path::prune_collinear(&mut p);
+    assert_eq!(p.len(), 3, "{p:?}");
+    assert!(valid(&p));
+    // Exactly collinear nodes (also fractional ones) still go.
+    let mut q: Path<4> = [
+        Point::new(0.0, 0.5),
+        Point::new(100.0, 1.0),
+        Point::new(200.0, 1.5),
+    ]
+    .into_iter()
+    .collect();
+    path::prune_collinear(&mut q);
+    assert_eq!(&q[..], &[Point::new(0.0, 0.5), Point::new(200.0, 1.5)]);
+}

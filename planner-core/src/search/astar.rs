@@ -14,7 +14,7 @@ use crate::path::PathView;
 /// along it into `out` (start first).
 ///
 /// `nodes` needs one entry per map cell. Errors: the endpoint checks of
-/// [`check_endpoints`](super::check_endpoints), [`PlanError::CapacityExceeded`] when `nodes`
+/// [`check_endpoints`], [`PlanError::CapacityExceeded`] when `nodes`
 /// or `out` is too small, [`PlanError::NoValidPath`] when the goal is unreachable.
 pub fn plan(
     grid: GridRef<'_>,
