@@ -202,6 +202,18 @@ pub fn segment_clearance(grid: GridRef<'_>, a: Point, b: Point, max: f32) -> f32
     if !a.is_finite() || !b.is_finite() || max.is_nan() || max < 0.0 {
         return 0.0;
     }
+    // An end on or beyond the map's edge touches an outside cell. (The scan below only
+    // visits the ring of outside cells next to the map, so it used to report the distance
+    // to that ring instead.) With both ends strictly inside, the whole segment is.
+    let on_map = |p: Point| {
+        p.x > -0.5
+            && p.y > -0.5
+            && p.x < grid.width() as f32 - 0.5
+            && p.y < grid.height() as f32 - 0.5
+    };
+    if !on_map(a) || !on_map(b) {
+        return 0.0;
+    }
     let max = max.min((grid.width() + grid.height()) as f32);
     let reach = max + 1.0;
     let clamp = |v: f32, hi: usize| libm::floorf(v).clamp(-1.0, hi as f32) as isize;

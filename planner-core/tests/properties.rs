@@ -20,10 +20,11 @@
 //!   cell centres (and = the exact validator on a sample);
 //! - `segment_is_clear_is_conservative`: on fractional points, accepted => exactly clear,
 //!   and a segment a whole cell away from everything is accepted;
+//! - `segment_clearance_matches_oracle`: clearance = an `f64` segment/square distance oracle;
 //! - `parser_*`: (g) no panic on arbitrary or mutated input, and generated maps round-trip.
 
 use planner_core::PlanError;
-use planner_core::geometry::{Cell, Point, line_of_sight, segment_is_clear};
+use planner_core::geometry::{Cell, Point, line_of_sight, segment_clearance, segment_is_clear};
 use planner_core::grid::{Grid, words_for};
 use planner_core::path::{self, Path};
 use planner_core::search::{SearchNode, astar, connectivity, theta};
@@ -244,6 +245,47 @@ fn segment_ok_frac(m: &Map, a: Point, b: Point) -> bool {
         }
     }
     true
+}
+
+/// Least distance (f64) from segment `ab` to a blocked or outside cell's square, looking
+/// at cells up to `reach` away from the segment's bounding box; 0 when it touches one.
+fn clearance_oracle(m: &Map, a: Point, b: Point, reach: f64) -> f64 {
+    let (sa, sb) = (scaled(a), scaled(b));
+    let (a, b) = ((a.x as f64, a.y as f64), (b.x as f64, b.y as f64));
+    let point_seg = |p: (f64, f64)| {
+        let (dx, dy) = (b.0 - a.0, b.1 - a.1);
+        let len2 = dx * dx + dy * dy;
+        let t = if len2 > 0.0 {
+            (((p.0 - a.0) * dx + (p.1 - a.1) * dy) / len2).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        (p.0 - a.0 - t * dx).hypot(p.1 - a.1 - t * dy)
+    };
+    let point_square = |p: (f64, f64), c: (f64, f64)| {
+        let gx = ((p.0 - c.0).abs() - 0.5).max(0.0);
+        let gy = ((p.1 - c.1).abs() - 0.5).max(0.0);
+        gx.hypot(gy)
+    };
+    let r = reach.ceil() as i64 + 1;
+    let mut best = f64::INFINITY;
+    for y in a.1.min(b.1).floor() as i64 - r..=a.1.max(b.1).ceil() as i64 + r {
+        for x in a.0.min(b.0).floor() as i64 - r..=a.0.max(b.0).ceil() as i64 + r {
+            if !m.blocked(x, y) {
+                continue;
+            }
+            if touches_scaled(sa, sb, (x, y)) {
+                return 0.0;
+            }
+            let c = (x as f64, y as f64);
+            let mut d = point_square(a, c).min(point_square(b, c));
+            for (ox, oy) in [(-0.5, -0.5), (0.5, -0.5), (0.5, 0.5), (-0.5, 0.5)] {
+                d = d.min(point_seg((c.0 + ox, c.1 + oy)));
+            }
+            best = best.min(d);
+        }
+    }
+    best
 }
 
 fn len64(p: &[Point]) -> f64 {
@@ -646,6 +688,32 @@ proptest! {
         prop_assert_eq!(path::validate(g, &q, s, t), Ok(()), "shortcut {:?}", q);
         prop_assert!(exact_ok(&q));
         prop_assert!(len64(&q) <= before + 1e-4);
+    }
+
+    /// `segment_clearance` equals an `f64` oracle (0 when the segment touches a blocked or
+    /// outside cell, else the least distance to such a cell's square), capped at `max`.
+    #[test]
+    fn segment_clearance_matches_oracle(
+        (m, pts) in map_strategy().prop_flat_map(|m| {
+            // Mostly on the map, sometimes a little off it (units of 1/64 cell).
+            let (w, h) = (m.w as i32 * 64, m.h as i32 * 64);
+            let pts = proptest::collection::vec((-48..w + 16, -48..h + 16), 2..12);
+            (Just(m), pts)
+        }),
+        max in 0.0f32..6.0,
+    ) {
+        let grid = m.grid();
+        let g = grid.view();
+        let p = |(x, y): (i32, i32)| Point::new(x as f32 / 64.0, y as f32 / 64.0);
+        for w in pts.windows(2) {
+            let (a, b) = (p(w[0]), p(w[1]));
+            let got = segment_clearance(g, a, b, max);
+            let want = clearance_oracle(&m, a, b, max as f64 + 2.0).min(max as f64);
+            prop_assert!(
+                (got as f64 - want).abs() <= 1e-4,
+                "{:?} -> {:?} max {}: got {}, want {}", a, b, max, got, want
+            );
+        }
     }
 
     /// (g) The parsers never panic on arbitrary bytes.

@@ -130,3 +130,30 @@ fn prune_collinear_keeps_a_bend_that_avoids_an_obstacle() {
     path::prune_collinear(&mut q);
     assert_eq!(&q[..], &[Point::new(0.0, 0.5), Point::new(200.0, 1.5)]);
 }
+
+/// `segment_clearance` scanned only the ring of outside cells next to the map, so for a
+/// segment with an end beyond that ring it returned the distance to the ring instead of 0
+/// (the segment touches outside cells, which count as blocked). Found by the property
+/// test `segment_clearance_matches_oracle`.
+#[test]
+fn segment_clearance_is_zero_off_the_map() {
+    use planner_core::geometry::segment_clearance;
+    let g = Grid::<{ words_for(3, 3) }>::new(3, 3).unwrap();
+    let v = g.view();
+    let c = |a: (f32, f32), b: (f32, f32)| {
+        segment_clearance(v, Point::new(a.0, a.1), Point::new(b.0, b.1), 5.0)
+    };
+    assert_eq!(c((-3.0, 0.0), (-3.0, 2.0)), 0.0); // was 1.5
+    assert_eq!(c((1.0, 1.0), (9.0, 1.0)), 0.0); // ends beyond the ring
+    assert_eq!(c((1.0, 1.0), (1.0, 2.5)), 0.0); // ends on the map's edge
+    let tiny = Grid::<1>::new(1, 1).unwrap();
+    let d = segment_clearance(
+        tiny.view(),
+        Point::new(0.0, 1.59375),
+        Point::new(18.53125, 0.4375),
+        4.0,
+    );
+    assert_eq!(d, 0.0); // was 1.6e-4
+    // On the map nothing changes: the centre of a free 3 x 3 map is 1.5 from the outside.
+    assert_eq!(c((1.0, 1.0), (1.0, 1.0)), 1.5);
+}
