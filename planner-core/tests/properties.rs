@@ -21,6 +21,7 @@
 //! - `segment_is_clear_is_conservative`: on fractional points, accepted => exactly clear,
 //!   and a segment a whole cell away from everything is accepted;
 //! - `segment_clearance_matches_oracle`: clearance = an `f64` segment/square distance oracle;
+//! - `inflation_matches_oracle`: `inflate_into` blocks exactly the cells closer than `r`;
 //! - `parser_*`: (g) no panic on arbitrary or mutated input, and generated maps round-trip.
 
 use planner_core::PlanError;
@@ -713,6 +714,34 @@ proptest! {
                 (got as f64 - want).abs() <= 1e-4,
                 "{:?} -> {:?} max {}: got {}, want {}", a, b, max, got, want
             );
+        }
+    }
+
+    /// `inflate_into` blocks exactly the cells that are blocked or whose square comes closer
+    /// than the radius to a blocked or outside cell's square (radii k/8: exact in `f32`).
+    #[test]
+    fn inflation_matches_oracle(m in map_strategy(), k in 0u32..=24) {
+        let r = k as f64 / 8.0;
+        let grid = m.grid();
+        let mut out = G::new(1, 1).unwrap();
+        grid.inflate_into(r as f32, &mut out).unwrap();
+        let v = out.view();
+        prop_assert_eq!((v.width(), v.height()), (m.w, m.h));
+        let reach = r.ceil() as i64 + 1;
+        for y in 0..m.h as i64 {
+            for x in 0..m.w as i64 {
+                let mut want = m.blocked(x, y);
+                for dy in -reach..=reach {
+                    for dx in -reach..=reach {
+                        let gx = (dx.abs() - 1).max(0) as f64;
+                        let gy = (dy.abs() - 1).max(0) as f64;
+                        if m.blocked(x + dx, y + dy) && gx.hypot(gy) < r {
+                            want = true;
+                        }
+                    }
+                }
+                prop_assert_eq!(v.is_blocked(x as isize, y as isize), want, "({}, {}) r {}", x, y, r);
+            }
         }
     }
 
