@@ -114,30 +114,40 @@ pub fn line_of_sight(grid: GridRef<'_>, a: Cell, b: Cell) -> bool {
     let (a, b) = if a.x <= b.x { (a, b) } else { (b, a) };
     let (x0, y0, x1, y1) = (a.x as i64, a.y as i64, b.x as i64, b.y as i64);
     let dx = x1 - x0;
-    let dy = y1 - y0;
     if dx == 0 {
         let (lo, hi) = if y0 <= y1 { (y0, y1) } else { (y1, y0) };
         return (lo..=hi).all(|y| !grid.is_blocked(x0 as isize, y as isize));
     }
-    // Work in units of 1/(2 dx): the segment's height at x is (2 dx y0 + (2x - 2x0) dy).
+    // Mirror vertically so that the line rises: row r of the mirrored problem is row
+    // `s * r` of the map (cell squares are symmetric, so touches are preserved).
+    let s = if y1 >= y0 { 1 } else { -1 };
+    let (y0, y1) = (s * y0, s * y1);
+    let dy = y1 - y0;
     // Column c spans x in [c - 1/2, c + 1/2]; row r is touched when the segment's height
-    // range over that span meets [r - 1/2, r + 1/2] (closed: corners count).
+    // range over that span meets [r - 1/2, r + 1/2] (closed: corners count). Between
+    // columns x0 + k and x0 + k + 1 the line is at Y_k = y0 + (k + 1/2) dy / dx, so
+    // column x0 + k covers rows ceil(Y_(k-1) - 1/2) ..= floor(Y_k + 1/2) (y0 and y1 at the
+    // ends). Track q = floor(Y_k + 1/2) and its remainder in units of 1/(2 dx) exactly,
+    // without dividing in the loop: ceil(Y_k - 1/2) is q - 1 when Y_k + 1/2 is an integer
+    // (the line passes through a cell corner) and q otherwise.
+    let (two_dx, two_dy) = (2 * dx, 2 * dy);
+    let (step_q, step_rem) = (two_dy / two_dx, two_dy % two_dx);
+    let mut q = y0 + (dy + dx) / two_dx;
+    let mut rem = (dy + dx) % two_dx;
+    let mut lo = y0;
     for c in x0..=x1 {
-        let left2 = (2 * c - 1).max(2 * x0);
-        let right2 = (2 * c + 1).min(2 * x1);
-        let h_left = 2 * dx * y0 + (left2 - 2 * x0) * dy;
-        let h_right = 2 * dx * y0 + (right2 - 2 * x0) * dy;
-        let (lo, hi) = if h_left <= h_right {
-            (h_left, h_right)
-        } else {
-            (h_right, h_left)
-        };
-        let r0 = div_ceil(lo - dx, 2 * dx);
-        let r1 = div_floor(hi + dx, 2 * dx);
-        for r in r0..=r1 {
-            if grid.is_blocked(c as isize, r as isize) {
+        let hi = if c == x1 { y1 } else { q };
+        for r in lo..=hi {
+            if grid.is_blocked(c as isize, (s * r) as isize) {
                 return false;
             }
+        }
+        lo = if rem == 0 { q - 1 } else { q };
+        q += step_q;
+        rem += step_rem;
+        if rem >= two_dx {
+            rem -= two_dx;
+            q += 1;
         }
     }
     true
@@ -297,19 +307,6 @@ fn segment_meets_square(a: Point, b: Point, c: Point) -> bool {
     true
 }
 
-fn div_floor(a: i64, b: i64) -> i64 {
-    let q = a / b;
-    if (a % b != 0) && ((a < 0) != (b < 0)) {
-        q - 1
-    } else {
-        q
-    }
-}
-
-fn div_ceil(a: i64, b: i64) -> i64 {
-    -div_floor(-a, b)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -434,14 +431,5 @@ mod tests {
         assert_eq!(octile(Cell::new(0, 0), Cell::new(3, 0)), 3.0);
         let d = octile(Cell::new(0, 0), Cell::new(3, 5));
         assert!((d - (2.0 + 3.0 * core::f32::consts::SQRT_2)).abs() < 1e-5);
-    }
-
-    #[test]
-    fn integer_division_helpers() {
-        assert_eq!(div_floor(-3, 2), -2);
-        assert_eq!(div_floor(3, 2), 1);
-        assert_eq!(div_ceil(-3, 2), -1);
-        assert_eq!(div_ceil(3, 2), 2);
-        assert_eq!(div_ceil(4, 2), 2);
     }
 }

@@ -18,6 +18,7 @@
 //!   walks with revisits, reversals and repeats, and on fractional (dyadic) waypoints;
 //! - `collision_checks_agree`: (d) `line_of_sight` = `segment_is_clear` on every pair of
 //!   cell centres (and = the exact validator on a sample);
+//! - `line_of_sight_on_large_maps`: (d) the same oracle on sparse maps up to 300 x 300;
 //! - `segment_is_clear_is_conservative`: on fractional points, accepted => exactly clear,
 //!   and a segment a whole cell away from everything is accepted;
 //! - `segment_clearance_matches_oracle`: clearance = an `f64` segment/square distance oracle;
@@ -801,5 +802,37 @@ proptest! {
             prop_assert!(v.width() >= 1 && v.height() >= 1 && v.cells() <= G::CAPACITY);
         }
         let _ = G::parse_rows(&bytes);
+    }
+}
+
+proptest! {
+    #![proptest_config(Config { cases: 256, ..Config::default() })]
+
+    /// (d) on maps up to 300 x 300 with sparse obstacles: long and steep lines, checked
+    /// against the separating-axis oracle over every blocked cell.
+    #[test]
+    fn line_of_sight_on_large_maps(
+        (w, h, cells, pairs) in (1usize..=300, 1usize..=300, 0.0..0.05f64).prop_flat_map(|(w, h, d)| {
+            let n = ((w * h) as f64 * d) as usize;
+            (
+                Just(w),
+                Just(h),
+                proptest::collection::vec((0..w as u16, 0..h as u16), n),
+                proptest::collection::vec((0..w as u16, 0..h as u16, 0..w as u16, 0..h as u16), 100),
+            )
+        }),
+    ) {
+        let mut grid: Box<Grid<{ words_for(300, 300) }>> = Box::new(Grid::new(w, h).unwrap());
+        for &(x, y) in &cells {
+            grid.set_blocked(x as usize, y as usize, true).unwrap();
+        }
+        let g = grid.view();
+        for (ax, ay, bx, by) in pairs {
+            let (a, b) = ((ax as i64, ay as i64), (bx as i64, by as i64));
+            let want = cells.iter().all(|&(x, y)| !touches(a, b, (x as i64, y as i64)));
+            let (ca, cb) = (Cell::new(ax, ay), Cell::new(bx, by));
+            prop_assert_eq!(line_of_sight(g, ca, cb), want, "{:?} -> {:?}", ca, cb);
+            prop_assert_eq!(line_of_sight(g, cb, ca), want, "{:?} -> {:?}", cb, ca);
+        }
     }
 }
