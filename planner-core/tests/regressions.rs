@@ -157,3 +157,10 @@ fn segment_clearance_is_zero_off_the_map() {
     // On the map nothing changes: the centre of a free 3 x 3 map is 1.5 from the outside.
     assert_eq!(c((1.0, 1.0), (1.0, 1.0)), 1.5);
 }
+
+/// Firmware keeps one `SearchNode` per cell in a `static` under a 64 KiB RAM budget: the
+/// faster open list must not make nodes bigger than the original 24 bytes.
+#[test]
+fn search_node_stays_24_bytes() {
+    assert_eq!(core::mem::size_of::<planner_core::search::SearchNode>(), 24);
+}

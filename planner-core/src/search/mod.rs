@@ -31,13 +31,13 @@ use crate::geometry::{Cell, Point};
 use crate::grid::GridRef;
 use crate::path::PathView;
 
-/// Per-cell search state. Keep one per map cell. Planners leave every node as they found
-/// it (reset), so storage is never cleared in O(cells) between calls.
+/// Per-cell search state (24 bytes). Keep one per map cell. Planners leave every node as
+/// they found it (reset), so storage is never cleared in O(cells) between calls.
 #[derive(Clone, Copy, Debug)]
 pub struct SearchNode {
     g: f32,
     parent: u32,
-    /// Position of this cell in the open heap while open.
+    /// The cell's state: `NEW`, `CLOSED`, or else open at this position of the heap.
     heap_pos: u32,
     /// Slot `i` of the open heap (or of the stack of closed cells, which grows down from
     /// the end of the array) is stored in `nodes[i]`: the cell and, for the heap, its key
@@ -46,26 +46,23 @@ pub struct SearchNode {
     slot_f: u32,
     slot_g: u32,
     slot_cell: u32,
-    state: NodeState,
 }
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum NodeState {
-    New,
-    Open,
-    Closed,
-}
+/// `heap_pos` of a cell not reached yet. (Heap positions stay below the cell count, at
+/// most 65535^2 < `CLOSED`.)
+const NEW: u32 = u32::MAX;
+/// `heap_pos` of a closed cell.
+const CLOSED: u32 = u32::MAX - 1;
 
 impl SearchNode {
     /// An unused node (for array initialisers).
     pub const EMPTY: SearchNode = SearchNode {
         g: 0.0,
         parent: 0,
-        heap_pos: 0,
+        heap_pos: NEW,
         slot_f: 0,
         slot_g: 0,
         slot_cell: 0,
-        state: NodeState::New,
     };
 }
 
@@ -181,7 +178,7 @@ pub fn check_endpoints(grid: GridRef<'_>, start: Cell, goal: Cell) -> Result<(),
 
 /// The open list: an indexed binary min-heap on `(f, -g)` stored inside the node array.
 ///
-/// Every node is `New` when the list is created and again when it is dropped: the cells
+/// Every node is `NEW` when the list is created and again when it is dropped: the cells
 /// it touched are exactly those in the heap (slots `0..len`) and those on the closed stack
 /// (slots `n - closed..n`; `len + closed` never exceeds the number of cells opened), so
 /// dropping resets them in O(touched) instead of clearing all cells on every query.
@@ -226,9 +223,9 @@ fn pack(hi: u32, lo: u32) -> u64 {
 }
 
 impl<'n> Open<'n> {
-    /// An empty open list over `nodes`, which must all be `New` (as planners leave them).
+    /// An empty open list over `nodes`, which must all be `NEW` (as planners leave them).
     pub(crate) fn new(nodes: &'n mut [SearchNode]) -> Self {
-        debug_assert!(nodes.iter().all(|n| n.state == NodeState::New));
+        debug_assert!(nodes.iter().all(|n| n.heap_pos == NEW));
         Open {
             nodes,
             len: 0,
@@ -241,7 +238,7 @@ impl<'n> Open<'n> {
     }
 
     pub(crate) fn is_closed(&self, i: usize) -> bool {
-        self.nodes[i].state == NodeState::Closed
+        self.nodes[i].heap_pos == CLOSED
     }
 
     pub(crate) fn g(&self, i: usize) -> f32 {
@@ -252,15 +249,15 @@ impl<'n> Open<'n> {
     #[inline]
     pub(crate) fn relax(&mut self, i: usize, g: f32, h: f32, parent: usize) {
         let node = &mut self.nodes[i];
-        let pos = match node.state {
-            NodeState::Closed => return,
-            NodeState::Open if g >= node.g => return,
-            NodeState::Open => node.heap_pos as usize,
-            NodeState::New => {
-                node.state = NodeState::Open;
+        // The cell's `heap_pos` is (re)written when `sift_up` places it.
+        let pos = match node.heap_pos {
+            CLOSED => return,
+            NEW => {
                 self.len += 1;
                 self.len - 1
             }
+            _ if g >= node.g => return,
+            pos => pos as usize,
         };
         node.g = g;
         node.parent = parent as u32;
@@ -278,7 +275,7 @@ impl<'n> Open<'n> {
             let last = self.entry(self.len);
             self.sift_down(0, last);
         }
-        self.nodes[top].state = NodeState::Closed;
+        self.nodes[top].heap_pos = CLOSED;
         self.closed += 1;
         let n = self.nodes.len();
         self.nodes[n - self.closed].slot_cell = top as u32;
@@ -381,12 +378,12 @@ impl<'n> Open<'n> {
 }
 
 impl Drop for Open<'_> {
-    /// Resets every touched node to `New` (runs on every exit of a planner).
+    /// Resets every touched node to `NEW` (runs on every exit of a planner).
     fn drop(&mut self) {
         let n = self.nodes.len();
         for pos in (0..self.len).chain(n - self.closed..n) {
             let cell = self.nodes[pos].slot_cell as usize;
-            self.nodes[cell].state = NodeState::New;
+            self.nodes[cell].heap_pos = NEW;
         }
     }
 }
