@@ -42,11 +42,12 @@ fn point_cell_sends_ties_to_the_lower_index() {
     assert_eq!(Point::new(0.499_999_97, 0.0).cell(v), Some(Cell::new(0, 0)));
     assert_eq!(Point::new(0.500_000_06, 0.0).cell(v), Some(Cell::new(1, 0)));
     assert_eq!(Point::new(2.0, 3.0).cell(v), Some(Cell::new(2, 3)));
-    assert_eq!(Point::new(3.5, 0.0).cell(v), Some(Cell::new(3, 0)));
     assert_eq!(Point::new(3.51, 0.0).cell(v), None);
     assert_eq!(Point::new(-0.4, 0.0).cell(v), Some(Cell::new(0, 0)));
-    // The map's outer edge belongs to the outside (as in `segment_is_clear`).
+    // Ties go to the lower index at the map's edges too: -0.5 lies between cell -1
+    // (outside) and cell 0, and 3.5 between cell 3 and cell 4 (outside).
     assert_eq!(Point::new(-0.5, 0.0).cell(v), None);
+    assert_eq!(Point::new(3.5, 0.0).cell(v), Some(Cell::new(3, 0)));
     assert_eq!(Point::new(f32::NAN, 0.0).cell(v), None);
 }
 
