@@ -208,12 +208,9 @@ fn scen_parser_reads_fields() {
 }
 
 #[test]
-fn warehouse_10_20_10_2_1_random_1() {
-    let s = check_map(
-        "warehouse-10-20-10-2-1.map",
-        &["warehouse-10-20-10-2-1-random-1.scen"],
-    );
-    assert_eq!(s.rows, 1000);
+fn warehouse_10_20_10_2_1_all_four() {
+    let s = check_small("warehouse-10-20-10-2-1");
+    assert_eq!(s.rows, 450 + 450 + 1000 + 1000);
 }
 
 #[test]
