@@ -9,7 +9,8 @@
 //! Two implementations of the rule exist on purpose: [`line_of_sight`] is exact integer
 //! arithmetic for segments between cell centres (what the search planners use), and
 //! [`segment_is_clear`] handles fractional waypoints in `f32`, erring on the blocked side by
-//! [`TOUCH_EPS`]. The tests check that they agree on cell centres.
+//! [`TOUCH_EPS`]; between two cell centres it defers to the exact check, so the two always
+//! agree there (the tests check it).
 
 use crate::grid::GridRef;
 
@@ -67,7 +68,9 @@ impl Point {
         if !self.is_finite() {
             return None;
         }
-        let (x, y) = (libm::floorf(self.x + 0.5), libm::floorf(self.y + 0.5));
+        // ceil(v - 1/2): a point on the edge between two cells goes to the lower index.
+        // (floor(v + 1/2) sent ties upwards, and its rounding sent 0.49999997 to cell 1.)
+        let (x, y) = (libm::ceilf(self.x - 0.5), libm::ceilf(self.y - 0.5));
         grid.contains(x as isize, y as isize)
             .then(|| Cell::new(x as u16, y as u16))
     }
@@ -88,9 +91,11 @@ pub fn octile(a: Cell, b: Cell) -> f32 {
 }
 
 /// How far a fractional segment may pass from a blocked cell and still count as touching
-/// it. It only makes [`segment_is_clear`] conservative against `f32` rounding; on maps up
-/// to 4096 cells wide, segments between cell centres either touch a cell exactly or miss
-/// it by more than `1/8192`, so both implementations of the rule agree there.
+/// it. It only makes [`segment_is_clear`] conservative against `f32` rounding. Segments
+/// between two cell centres never use it: [`segment_is_clear`] hands them to the exact
+/// [`line_of_sight`], so both implementations of the rule agree there on maps of any size
+/// (in `f32` alone they did not: on a 4096 x 4096 map the rounding of `y` near 3000 is
+/// larger than `1/8192 - TOUCH_EPS`, the smallest margin by which such a segment misses).
 pub const TOUCH_EPS: f32 = 1e-4;
 
 /// Exact collision check of the segment between two cell centres (integer arithmetic).
@@ -142,6 +147,11 @@ pub fn line_of_sight(grid: GridRef<'_>, a: Cell, b: Cell) -> bool {
 /// (conservative by [`TOUCH_EPS`]). Non-finite points and points on or beyond the map's
 /// outer edge are invalid.
 pub fn segment_is_clear(grid: GridRef<'_>, a: Point, b: Point) -> bool {
+    // Between cell centres the exact rule decides (the planners use it, so their paths
+    // always validate); `f32` rounding would otherwise reject some of them on big maps.
+    if let (Some(ca), Some(cb)) = (centre_cell(a), centre_cell(b)) {
+        return line_of_sight(grid, ca, cb);
+    }
     let inside = |p: Point| {
         p.is_finite()
             && p.x > -0.5 + TOUCH_EPS
@@ -178,6 +188,12 @@ pub fn segment_is_clear(grid: GridRef<'_>, a: Point, b: Point) -> bool {
         }
     }
     true
+}
+
+/// The cell whose centre is exactly `p`, if `p` has integral coordinates in `u16` range.
+fn centre_cell(p: Point) -> Option<Cell> {
+    let integral = |v: f32| v >= 0.0 && v <= u16::MAX as f32 && libm::truncf(v) == v;
+    (integral(p.x) && integral(p.y)).then(|| Cell::new(p.x as u16, p.y as u16))
 }
 
 /// Distance from a segment to the nearest blocked cell (or the map's outside), capped at

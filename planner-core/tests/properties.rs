@@ -1,0 +1,474 @@
+//! Property tests of the grid, the collision rule and the reference planners on random maps.
+//!
+//! Every oracle here is written from scratch in this file and shares no code with the
+//! crate: an exact integer segment/square test (separating axes), a BFS over the 8-connected
+//! moves, and an `f64` Dijkstra. The crate's own `path::validate`, `segment_is_clear` and
+//! `line_of_sight` are only ever the things under test.
+
+use planner_core::PlanError;
+use planner_core::geometry::{Cell, Point, line_of_sight, segment_is_clear};
+use planner_core::grid::{Grid, words_for};
+use planner_core::path::{self, Path};
+use planner_core::search::{SearchNode, astar, connectivity, theta};
+use proptest::prelude::*;
+use proptest::test_runner::Config;
+use std::cmp::Reverse;
+use std::collections::{BinaryHeap, VecDeque};
+
+const MAX_SIDE: usize = 24;
+type G = Grid<{ words_for(MAX_SIDE, MAX_SIDE) }>;
+type Buf = Path<{ MAX_SIDE * MAX_SIDE + 1 }>;
+
+/// A random map: its size and row-major blocked flags.
+#[derive(Clone, Debug)]
+struct Map {
+    w: usize,
+    h: usize,
+    blocked: Vec<bool>,
+}
+
+impl Map {
+    fn blocked(&self, x: i64, y: i64) -> bool {
+        x < 0
+            || y < 0
+            || x >= self.w as i64
+            || y >= self.h as i64
+            || self.blocked[y as usize * self.w + x as usize]
+    }
+
+    fn grid(&self) -> G {
+        let mut g = G::new(self.w, self.h).unwrap();
+        for y in 0..self.h {
+            for x in 0..self.w {
+                g.set_blocked(x, y, self.blocked[y * self.w + x]).unwrap();
+            }
+        }
+        g
+    }
+
+    fn text(&self) -> String {
+        let mut s = format!("type octile\nheight {}\nwidth {}\nmap\n", self.h, self.w);
+        for y in 0..self.h {
+            for x in 0..self.w {
+                s.push(if self.blocked[y * self.w + x] {
+                    '@'
+                } else {
+                    '.'
+                });
+            }
+            s.push('\n');
+        }
+        s
+    }
+}
+
+fn map_strategy() -> impl Strategy<Value = Map> {
+    (1..=MAX_SIDE, 1..=MAX_SIDE, 0.0..0.5f64).prop_flat_map(|(w, h, density)| {
+        proptest::collection::vec(0.0..1.0f64, w * h).prop_map(move |u| Map {
+            w,
+            h,
+            blocked: u.into_iter().map(|v| v < density).collect(),
+        })
+    })
+}
+
+/// A map with a start and a goal that may be blocked or up to two cells outside.
+fn query_strategy() -> impl Strategy<Value = (Map, Cell, Cell)> {
+    map_strategy().prop_flat_map(|m| {
+        let (w, h) = (m.w as u16, m.h as u16);
+        let cell = move || (0..w + 2, 0..h + 2).prop_map(|(x, y)| Cell::new(x, y));
+        (Just(m), cell(), cell())
+    })
+}
+
+// ---------------------------------------------------------------------------------------
+// Independent oracles.
+
+/// Exact test: does the segment between integer points `a`, `b` touch the closed unit
+/// square centred on `c`? Doubled coordinates keep everything integral; by the separating
+/// axis theorem the two convex sets are disjoint iff the square's axes or the segment's
+/// normal separate them strictly.
+fn touches(a: (i64, i64), b: (i64, i64), c: (i64, i64)) -> bool {
+    let (ax, ay, bx, by) = (2 * a.0, 2 * a.1, 2 * b.0, 2 * b.1);
+    let (x0, x1, y0, y1) = (2 * c.0 - 1, 2 * c.0 + 1, 2 * c.1 - 1, 2 * c.1 + 1);
+    if ax.max(bx) < x0 || ax.min(bx) > x1 || ay.max(by) < y0 || ay.min(by) > y1 {
+        return false;
+    }
+    let side = |px: i64, py: i64| ((bx - ax) * (py - ay) - (by - ay) * (px - ax)).signum();
+    let s = [side(x0, y0), side(x1, y0), side(x0, y1), side(x1, y1)];
+    !(s.iter().all(|&v| v > 0) || s.iter().all(|&v| v < 0))
+}
+
+/// Whether the segment between two on-map cell centres is valid: it touches no blocked cell.
+/// (Its bounding box lies inside the map, so it cannot touch the outside.)
+fn segment_ok(m: &Map, a: (i64, i64), b: (i64, i64)) -> bool {
+    if m.blocked(a.0, a.1) || m.blocked(b.0, b.1) {
+        return false;
+    }
+    for y in a.1.min(b.1) - 1..=a.1.max(b.1) + 1 {
+        for x in a.0.min(b.0) - 1..=a.0.max(b.0) + 1 {
+            if m.blocked(x, y) && touches(a, b, (x, y)) {
+                return false;
+            }
+        }
+    }
+    true
+}
+
+/// Validates a path of integral waypoints from `s` to `t` under the collision rule.
+fn check_path(m: &Map, p: &[Point], s: Cell, t: Cell) -> Result<(), String> {
+    let pts: Vec<(i64, i64)> = p
+        .iter()
+        .map(|q| {
+            if q.x.fract() != 0.0 || q.y.fract() != 0.0 {
+                Err(format!("fractional waypoint {q:?}"))
+            } else {
+                Ok((q.x as i64, q.y as i64))
+            }
+        })
+        .collect::<Result<_, _>>()?;
+    match (pts.first(), pts.last()) {
+        (Some(&f), Some(&l)) => {
+            if f != (s.x as i64, s.y as i64) {
+                return Err(format!("starts at {f:?}, not {s:?}"));
+            }
+            if l != (t.x as i64, t.y as i64) {
+                return Err(format!("ends at {l:?}, not {t:?}"));
+            }
+        }
+        _ => return Err("empty path".into()),
+    }
+    if pts.len() == 1 && !segment_ok(m, pts[0], pts[0]) {
+        return Err("single waypoint on a blocked cell".into());
+    }
+    for (i, w) in pts.windows(2).enumerate() {
+        if !segment_ok(m, w[0], w[1]) {
+            return Err(format!("segment {i} {:?} -> {:?} collides", w[0], w[1]));
+        }
+    }
+    Ok(())
+}
+
+fn len64(p: &[Point]) -> f64 {
+    p.windows(2)
+        .map(|w| ((w[1].x - w[0].x) as f64).hypot((w[1].y - w[0].y) as f64))
+        .sum()
+}
+
+/// The 8-connected moves allowed from `(x, y)` (no corner cutting), with `f64` costs.
+fn moves(m: &Map, x: i64, y: i64) -> impl Iterator<Item = (i64, i64, f64)> + '_ {
+    (-1..=1)
+        .flat_map(|dy| (-1..=1).map(move |dx| (dx, dy)))
+        .filter(move |&(dx, dy)| {
+            (dx, dy) != (0, 0)
+                && !m.blocked(x + dx, y + dy)
+                && !m.blocked(x + dx, y)
+                && !m.blocked(x, y + dy)
+        })
+        .map(move |(dx, dy)| {
+            let c = if dx != 0 && dy != 0 {
+                std::f64::consts::SQRT_2
+            } else {
+                1.0
+            };
+            (x + dx, y + dy, c)
+        })
+}
+
+fn bfs_reachable(m: &Map, s: Cell, t: Cell) -> bool {
+    let mut seen = vec![false; m.w * m.h];
+    let mut queue = VecDeque::from([(s.x as i64, s.y as i64)]);
+    seen[s.y as usize * m.w + s.x as usize] = true;
+    while let Some((x, y)) = queue.pop_front() {
+        if (x, y) == (t.x as i64, t.y as i64) {
+            return true;
+        }
+        for (nx, ny, _) in moves(m, x, y) {
+            let k = ny as usize * m.w + nx as usize;
+            if !seen[k] {
+                seen[k] = true;
+                queue.push_back((nx, ny));
+            }
+        }
+    }
+    false
+}
+
+/// Shortest 8-connected distance in `f64` (`None` when unreachable).
+fn dijkstra(m: &Map, s: Cell, t: Cell) -> Option<f64> {
+    let mut dist = vec![f64::INFINITY; m.w * m.h];
+    let mut heap = BinaryHeap::new();
+    let key = |d: f64| Reverse((d * 1e9) as u64); // exact order for these magnitudes
+    dist[s.y as usize * m.w + s.x as usize] = 0.0;
+    heap.push((key(0.0), s.x as i64, s.y as i64));
+    while let Some((_, x, y)) = heap.pop() {
+        let d = dist[y as usize * m.w + x as usize];
+        if (x, y) == (t.x as i64, t.y as i64) {
+            return Some(d);
+        }
+        for (nx, ny, c) in moves(m, x, y) {
+            let k = ny as usize * m.w + nx as usize;
+            if d + c < dist[k] - 1e-12 {
+                dist[k] = d + c;
+                heap.push((key(d + c), nx, ny));
+            }
+        }
+    }
+    None
+}
+
+/// What the planners must return for bad endpoints, in the documented order.
+fn expected_endpoint_error(m: &Map, s: Cell, t: Cell) -> Option<PlanError> {
+    let outside = |c: Cell| c.x as usize >= m.w || c.y as usize >= m.h;
+    if outside(s) {
+        Some(PlanError::StartOutsideMap)
+    } else if outside(t) {
+        Some(PlanError::GoalOutsideMap)
+    } else if m.blocked(s.x as i64, s.y as i64) {
+        Some(PlanError::StartOccupied)
+    } else if m.blocked(t.x as i64, t.y as i64) {
+        Some(PlanError::GoalOccupied)
+    } else {
+        None
+    }
+}
+
+// ---------------------------------------------------------------------------------------
+// The oracle itself, on hand-made cases.
+
+#[test]
+fn oracle_sanity() {
+    // Corner touches count; near misses do not.
+    assert!(touches((0, 0), (1, 1), (1, 0)));
+    assert!(touches((0, 0), (3, 1), (1, 1)));
+    assert!(touches((0, 0), (3, 1), (2, 0)));
+    assert!(!touches((0, 0), (3, 1), (0, 1)));
+    assert!(!touches((0, 0), (2, 0), (1, 1)));
+    let m = Map {
+        w: 2,
+        h: 2,
+        blocked: vec![false, true, true, false],
+    };
+    assert!(!bfs_reachable(&m, Cell::new(0, 0), Cell::new(1, 1)));
+    assert_eq!(dijkstra(&m, Cell::new(0, 0), Cell::new(1, 1)), None);
+    let open = Map {
+        w: 3,
+        h: 2,
+        blocked: vec![false; 6],
+    };
+    let d = dijkstra(&open, Cell::new(0, 0), Cell::new(2, 1)).unwrap();
+    assert!((d - (1.0 + std::f64::consts::SQRT_2)).abs() < 1e-12);
+    let p = [Point::new(0.0, 0.0), Point::new(2.0, 1.0)];
+    assert!(check_path(&open, &p, Cell::new(0, 0), Cell::new(2, 1)).is_ok());
+    assert!(check_path(&m, &p[..1], Cell::new(0, 0), Cell::new(0, 0)).is_ok());
+    assert!(check_path(&m, &p[..1], Cell::new(1, 0), Cell::new(1, 0)).is_err());
+}
+
+// ---------------------------------------------------------------------------------------
+// Properties.
+
+proptest! {
+    #![proptest_config(Config { cases: 600, ..Config::default() })]
+
+    /// (a) valid paths, (b) Theta* <= A*, (c) errors exactly as BFS/connectivity/endpoint
+    /// checks say, (e) A* length = Dijkstra, (f) pruning keeps paths valid and not longer.
+    #[test]
+    fn planners_agree_with_oracles((m, s, t) in query_strategy()) {
+        let grid = m.grid();
+        let g = grid.view();
+        let mut nodes = vec![SearchNode::EMPTY; g.cells()];
+        let mut labels = vec![0u32; g.cells()];
+        connectivity::label(g, &mut labels).unwrap();
+        let mut a_path = Buf::new();
+        let mut t_path = Buf::new();
+        let a = astar::plan(g, s, t, &mut nodes, &mut a_path);
+        let th = theta::plan(g, s, t, &mut nodes, &mut t_path);
+        let conn = connectivity::connected(g, &labels, s, t);
+
+        if let Some(err) = expected_endpoint_error(&m, s, t) {
+            prop_assert_eq!(a, Err(err));
+            prop_assert_eq!(th, Err(err));
+            prop_assert_eq!(conn, Err(err));
+            return Ok(());
+        }
+        let reachable = bfs_reachable(&m, s, t);
+        prop_assert_eq!(conn, Ok(reachable));
+        let dist = dijkstra(&m, s, t);
+        prop_assert_eq!(dist.is_some(), reachable);
+        let mut l_path = Buf::new();
+        let labelled = astar::plan_with_labels(g, s, t, Some(&labels), &mut nodes, &mut l_path);
+        prop_assert_eq!(labelled, a);
+        let Some(dist) = dist else {
+            prop_assert_eq!(a, Err(PlanError::NoValidPath));
+            prop_assert_eq!(th, Err(PlanError::NoValidPath));
+            return Ok(());
+        };
+        let (a, th) = (a.unwrap(), th.unwrap());
+
+        check_path(&m, &a_path, s, t).map_err(TestCaseError::fail)?;
+        check_path(&m, &t_path, s, t).map_err(TestCaseError::fail)?;
+        // A* visits every cell centre on its way: unit steps only.
+        for w in a_path.windows(2) {
+            let (dx, dy) = ((w[1].x - w[0].x).abs(), (w[1].y - w[0].y).abs());
+            prop_assert!(dx.max(dy) == 1.0, "{:?}", w);
+        }
+        prop_assert!((a.length as f64 - dist).abs() < 1e-4, "A* {} vs Dijkstra {}", a.length, dist);
+        prop_assert!((len64(&a_path) - dist).abs() < 1e-9);
+        prop_assert!((len64(&t_path) - th.length as f64).abs() < 1e-4);
+        prop_assert!(th.length <= a.length + 1e-3, "Theta* {} > A* {}", th.length, a.length);
+        let straight = ((s.x as f64 - t.x as f64).hypot(s.y as f64 - t.y as f64)) as f32;
+        prop_assert!(th.length >= straight - 1e-3);
+
+        for (name, original) in [("A*", &a_path), ("Theta*", &t_path)] {
+            let before = len64(original);
+            let mut p = original.clone();
+            path::prune_collinear(&mut p);
+            check_path(&m, &p, s, t).map_err(|e| TestCaseError::fail(format!("{name} pruned: {e}")))?;
+            prop_assert!((len64(&p) - before).abs() < 1e-4, "prune changed the shape");
+            let pruned = len64(&p);
+            path::shortcut(g, &mut p);
+            check_path(&m, &p, s, t).map_err(|e| TestCaseError::fail(format!("{name} shortcut: {e}")))?;
+            prop_assert!(len64(&p) <= pruned + 1e-9);
+            let mut q = original.clone();
+            path::shortcut(g, &mut q);
+            check_path(&m, &q, s, t).map_err(|e| TestCaseError::fail(format!("{name} shortcut: {e}")))?;
+            prop_assert!(len64(&q) <= before + 1e-9);
+        }
+    }
+
+    /// (f) on arbitrary valid walks (revisits, reversals, repeated waypoints): pruning and
+    /// shortcutting keep them valid and never make them longer.
+    #[test]
+    fn pruning_keeps_random_walks_valid(
+        m in map_strategy(),
+        seed in any::<u64>(),
+        steps in 0usize..60,
+    ) {
+        let grid = m.grid();
+        let g = grid.view();
+        let free: Vec<(i64, i64)> = (0..m.h as i64)
+            .flat_map(|y| (0..m.w as i64).map(move |x| (x, y)))
+            .filter(|&(x, y)| !m.blocked(x, y))
+            .collect();
+        prop_assume!(!free.is_empty());
+        let mut rng = seed;
+        let mut next = |n: usize| {
+            rng = rng.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            ((rng >> 33) % n as u64) as usize
+        };
+        let mut cur = free[next(free.len())];
+        let start = Cell::new(cur.0 as u16, cur.1 as u16);
+        let mut walk = Buf::new();
+        walk.push(Point::new(cur.0 as f32, cur.1 as f32)).unwrap();
+        for _ in 0..steps {
+            let options: Vec<_> = moves(&m, cur.0, cur.1).collect();
+            // Sometimes stay put: repeated waypoints must be handled too.
+            if options.is_empty() || next(8) == 0 {
+                walk.push(Point::new(cur.0 as f32, cur.1 as f32)).unwrap();
+                continue;
+            }
+            let (x, y, _) = options[next(options.len())];
+            cur = (x, y);
+            walk.push(Point::new(x as f32, y as f32)).unwrap();
+        }
+        let goal = Cell::new(cur.0 as u16, cur.1 as u16);
+        check_path(&m, &walk, start, goal).map_err(TestCaseError::fail)?;
+        let before = len64(&walk);
+        let mut p = walk.clone();
+        path::prune_collinear(&mut p);
+        check_path(&m, &p, start, goal).map_err(TestCaseError::fail)?;
+        prop_assert!((len64(&p) - before).abs() < 1e-4);
+        path::shortcut(g, &mut p);
+        check_path(&m, &p, start, goal).map_err(TestCaseError::fail)?;
+        prop_assert!(len64(&p) <= before + 1e-4);
+        let mut q = walk.clone();
+        path::shortcut(g, &mut q);
+        check_path(&m, &q, start, goal).map_err(TestCaseError::fail)?;
+        prop_assert!(len64(&q) <= before + 1e-4);
+    }
+
+    /// (d) `line_of_sight` (integer) and `segment_is_clear` (f32) agree on every pair of
+    /// cell centres (including cells just outside the map), and a sample of pairs agrees
+    /// with the separating-axis oracle.
+    #[test]
+    fn collision_checks_agree(m in map_strategy(), seed in any::<u64>()) {
+        let grid = m.grid();
+        let g = grid.view();
+        let cells: Vec<Cell> = (0..m.h as u16 + 1)
+            .flat_map(|y| (0..m.w as u16 + 1).map(move |x| Cell::new(x, y)))
+            .collect();
+        for &a in &cells {
+            for &b in &cells {
+                let los = line_of_sight(g, a, b);
+                let seg = segment_is_clear(g, a.center(), b.center());
+                prop_assert_eq!(los, seg, "{:?} -> {:?}", a, b);
+            }
+        }
+        let mut rng = seed;
+        for _ in 0..300 {
+            rng = rng.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            let a = cells[(rng >> 20) as usize % cells.len()];
+            let b = cells[(rng >> 42) as usize % cells.len()];
+            let on_map = |c: Cell| (c.x as usize) < m.w && (c.y as usize) < m.h;
+            let want = on_map(a)
+                && on_map(b)
+                && segment_ok(&m, (a.x as i64, a.y as i64), (b.x as i64, b.y as i64));
+            prop_assert_eq!(line_of_sight(g, a, b), want, "{:?} -> {:?}", a, b);
+        }
+    }
+
+    /// (g) The parsers never panic on arbitrary bytes.
+    #[test]
+    fn parser_never_panics_on_bytes(bytes in any::<Vec<u8>>()) {
+        let _ = G::parse_movingai(&bytes);
+        let _ = G::parse_rows(&bytes);
+    }
+
+    /// (g) Generated maps round-trip, and any mutation of them parses or fails cleanly.
+    #[test]
+    fn parser_round_trips_and_survives_mutations(
+        m in map_strategy(),
+        crlf in any::<bool>(),
+        edits in proptest::collection::vec((any::<prop::sample::Index>(), 0u8..3, any::<u8>()), 0..6),
+    ) {
+        let mut text = m.text();
+        if crlf {
+            text = text.replace('\n', "\r\n");
+        }
+        let parsed = G::parse_movingai(text.as_bytes()).unwrap();
+        prop_assert_eq!(&parsed, &m.grid());
+        let v = parsed.view();
+        prop_assert_eq!((v.width(), v.height()), (m.w, m.h));
+        for y in 0..m.h {
+            for x in 0..m.w {
+                prop_assert_eq!(v.is_blocked(x as isize, y as isize), m.blocked[y * m.w + x]);
+            }
+        }
+        let body = text.split_once("map\n").or_else(|| text.split_once("map\r\n")).unwrap().1;
+        prop_assert_eq!(&G::parse_rows(body.as_bytes()).unwrap(), &m.grid());
+
+        let mut bytes = text.into_bytes();
+        for (at, kind, byte) in edits {
+            match kind {
+                0 if !bytes.is_empty() => {
+                    let i = at.index(bytes.len());
+                    bytes[i] = byte;
+                }
+                1 => {
+                    let i = at.index(bytes.len() + 1);
+                    bytes.insert(i, byte);
+                }
+                _ if !bytes.is_empty() => {
+                    let i = at.index(bytes.len());
+                    bytes.remove(i);
+                }
+                _ => {}
+            }
+        }
+        if let Ok(g) = G::parse_movingai(&bytes) {
+            let v = g.view();
+            prop_assert!(v.width() >= 1 && v.height() >= 1 && v.cells() <= G::CAPACITY);
+        }
+        let _ = G::parse_rows(&bytes);
+    }
+}
