@@ -111,33 +111,37 @@ pub const TOUCH_EPS: f32 = 1e-4;
 /// # Ok::<(), planner_core::error::MapError>(())
 /// ```
 pub fn line_of_sight(grid: GridRef<'_>, a: Cell, b: Cell) -> bool {
-    let (a, b) = if a.x <= b.x { (a, b) } else { (b, a) };
-    let (x0, y0, x1, y1) = (a.x as i64, a.y as i64, b.x as i64, b.y as i64);
-    let dx = x1 - x0;
-    let dy = y1 - y0;
-    if dx == 0 {
-        let (lo, hi) = if y0 <= y1 { (y0, y1) } else { (y1, y0) };
-        return (lo..=hi).all(|y| !grid.is_blocked(x0 as isize, y as isize));
+    let (dx, dy) = (b.x as i64 - a.x as i64, b.y as i64 - a.y as i64);
+    // Walk the strips across the segment's short side; each strip is one run of cells.
+    if dy.abs() > dx.abs() {
+        exact_strips((a.x as i64, a.y as i64), (b.x as i64, b.y as i64), |c, lo, hi| {
+            grid.column_run_blocked(c as isize, lo as isize, hi as isize)
+        })
+    } else {
+        exact_strips((a.y as i64, a.x as i64), (b.y as i64, b.x as i64), |r, lo, hi| {
+            grid.row_run_blocked(r as isize, lo as isize, hi as isize)
+        })
     }
-    // Work in units of 1/(2 dx): the segment's height at x is (2 dx y0 + (2x - 2x0) dy).
-    // Column c spans x in [c - 1/2, c + 1/2]; row r is touched when the segment's height
-    // range over that span meets [r - 1/2, r + 1/2] (closed: corners count).
-    for c in x0..=x1 {
-        let left2 = (2 * c - 1).max(2 * x0);
-        let right2 = (2 * c + 1).min(2 * x1);
-        let h_left = 2 * dx * y0 + (left2 - 2 * x0) * dy;
-        let h_right = 2 * dx * y0 + (right2 - 2 * x0) * dy;
-        let (lo, hi) = if h_left <= h_right {
-            (h_left, h_right)
-        } else {
-            (h_right, h_left)
-        };
-        let r0 = div_ceil(lo - dx, 2 * dx);
-        let r1 = div_floor(hi + dx, 2 * dx);
-        for r in r0..=r1 {
-            if grid.is_blocked(c as isize, r as isize) {
-                return false;
-            }
+}
+
+/// The exact rule in strip form, for a segment between lattice points `(u, v)`: strip `s`
+/// spans `u` in `[s - 1/2, s + 1/2]`; the cells it touches are the `v` run whose closed
+/// intervals `[p - 1/2, p + 1/2]` meet the segment's `v` range over the strip (corners
+/// count). `blocked(s, lo, hi)` tests one run. Integer arithmetic in units of `1/(2 du)`.
+fn exact_strips(a: (i64, i64), b: (i64, i64), mut blocked: impl FnMut(i64, i64, i64) -> bool) -> bool {
+    let ((u0, v0), (u1, v1)) = if a.0 <= b.0 { (a, b) } else { (b, a) };
+    let (du, dv) = (u1 - u0, v1 - v0);
+    if du == 0 {
+        return !blocked(u0, v0.min(v1), v0.max(v1));
+    }
+    for s in u0..=u1 {
+        let left2 = (2 * s - 1).max(2 * u0);
+        let right2 = (2 * s + 1).min(2 * u1);
+        let h_left = 2 * du * v0 + (left2 - 2 * u0) * dv;
+        let h_right = 2 * du * v0 + (right2 - 2 * u0) * dv;
+        let (lo, hi) = if h_left <= h_right { (h_left, h_right) } else { (h_right, h_left) };
+        if blocked(s, div_ceil(lo - du, 2 * du), div_floor(hi + du, 2 * du)) {
+            return false;
         }
     }
     true
@@ -163,28 +167,35 @@ pub fn segment_is_clear(grid: GridRef<'_>, a: Point, b: Point) -> bool {
     if !inside(a) || !inside(b) {
         return false;
     }
-    let (a, b) = if a.x <= b.x { (a, b) } else { (b, a) };
-    let (dx, dy) = (b.x - a.x, b.y - a.y);
-    let c0 = libm::ceilf(a.x - 0.5 - TOUCH_EPS) as isize;
-    let c1 = libm::floorf(b.x + 0.5 + TOUCH_EPS) as isize;
-    for c in c0..=c1 {
-        let (lo, hi) = if dx == 0.0 {
-            (a.y.min(b.y), a.y.max(b.y))
+    if (b.y - a.y).abs() > (b.x - a.x).abs() {
+        float_strips((a.x, a.y), (b.x, b.y), |c, lo, hi| grid.column_run_blocked(c, lo, hi))
+    } else {
+        float_strips((a.y, a.x), (b.y, b.x), |r, lo, hi| grid.row_run_blocked(r, lo, hi))
+    }
+}
+
+/// [`exact_strips`] for fractional end points, widened by [`TOUCH_EPS`] on every side.
+fn float_strips(a: (f32, f32), b: (f32, f32), mut blocked: impl FnMut(isize, isize, isize) -> bool) -> bool {
+    let ((u0, v0), (u1, v1)) = if a.0 <= b.0 { (a, b) } else { (b, a) };
+    let (du, dv) = (u1 - u0, v1 - v0);
+    let s0 = crate::math::ceil_i(u0 - 0.5 - TOUCH_EPS);
+    let s1 = crate::math::floor_i(u1 + 0.5 + TOUCH_EPS);
+    for s in s0..=s1 {
+        let (lo, hi) = if du == 0.0 {
+            (v0.min(v1), v0.max(v1))
         } else {
-            let xl = a.x.max(c as f32 - 0.5);
-            let xr = b.x.min(c as f32 + 0.5);
-            // Multiply before dividing: exact whenever the true height is representable,
-            // which keeps corner touches between cell centres exact.
-            let yl = a.y + (xl - a.x) * dy / dx;
-            let yr = a.y + (xr - a.x) * dy / dx;
-            (yl.min(yr), yl.max(yr))
+            let ul = u0.max(s as f32 - 0.5);
+            let ur = u1.min(s as f32 + 0.5);
+            // Multiply before dividing: exact whenever the true value is representable,
+            // which keeps corner touches exact.
+            let vl = v0 + (ul - u0) * dv / du;
+            let vr = v0 + (ur - u0) * dv / du;
+            (vl.min(vr), vl.max(vr))
         };
-        let r0 = libm::ceilf(lo - 0.5 - TOUCH_EPS) as isize;
-        let r1 = libm::floorf(hi + 0.5 + TOUCH_EPS) as isize;
-        for r in r0..=r1 {
-            if grid.is_blocked(c, r) {
-                return false;
-            }
+        let p0 = crate::math::ceil_i(lo - 0.5 - TOUCH_EPS);
+        let p1 = crate::math::floor_i(hi + 0.5 + TOUCH_EPS);
+        if blocked(s, p0, p1) {
+            return false;
         }
     }
     true
@@ -192,7 +203,7 @@ pub fn segment_is_clear(grid: GridRef<'_>, a: Point, b: Point) -> bool {
 
 /// The cell whose centre is exactly `p`, if `p` has integral coordinates in `u16` range.
 fn centre_cell(p: Point) -> Option<Cell> {
-    let integral = |v: f32| v >= 0.0 && v <= u16::MAX as f32 && libm::truncf(v) == v;
+    let integral = |v: f32| v >= 0.0 && v <= u16::MAX as f32 && (v as u16) as f32 == v;
     (integral(p.x) && integral(p.y)).then(|| Cell::new(p.x as u16, p.y as u16))
 }
 

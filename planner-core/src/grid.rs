@@ -30,11 +30,17 @@ pub const fn words_for(width: usize, height: usize) -> usize {
 pub const MAX_SIDE: usize = u16::MAX as usize;
 
 /// A bit-packed occupancy grid holding up to `WORDS * 32` cells.
+///
+/// The bits are kept twice, row-major and column-major, so that any run of cells along a
+/// row or a column is tested with a few word operations: segment checks, the planners' inner
+/// loop, then cost O(short side of the segment) instead of O(cells touched). The second
+/// copy costs one bit per cell.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Grid<const WORDS: usize> {
     width: usize,
     height: usize,
     bits: [u32; WORDS],
+    columns: [u32; WORDS],
 }
 
 /// A borrowed, capacity-independent view of a grid.
@@ -43,6 +49,7 @@ pub struct GridRef<'a> {
     width: usize,
     height: usize,
     bits: &'a [u32],
+    columns: &'a [u32],
 }
 
 impl<const WORDS: usize> Grid<WORDS> {
@@ -59,6 +66,7 @@ impl<const WORDS: usize> Grid<WORDS> {
                 width,
                 height,
                 bits: [0; WORDS],
+                columns: [0; WORDS],
             }),
             _ => Err(GridError::CapacityExceeded),
         }
@@ -80,6 +88,7 @@ impl<const WORDS: usize> Grid<WORDS> {
             width: self.width,
             height: self.height,
             bits: &self.bits,
+            columns: &self.columns,
         }
     }
 
@@ -88,15 +97,8 @@ impl<const WORDS: usize> Grid<WORDS> {
         if x >= self.width || y >= self.height {
             return Err(GridError::OutOfBounds);
         }
-        let i = y * self.width + x;
-        let (word, bit) = (i / 32, i % 32);
-        let slot = self.bits.get_mut(word).ok_or(GridError::OutOfBounds)?;
-        if blocked {
-            *slot |= 1 << bit;
-        } else {
-            *slot &= !(1 << bit);
-        }
-        Ok(())
+        set_bit(&mut self.bits, y * self.width + x, blocked)?;
+        set_bit(&mut self.columns, x * self.height + y, blocked)
     }
 
     /// Parses Moving AI `.map` text: `type octile`, `height H`, `width W`, `map`, then `H`
@@ -290,6 +292,32 @@ impl<'a> GridRef<'a> {
         }
     }
 
+    /// Whether any cell of row `y`, columns `x0..=x1`, is blocked (cells outside the map are).
+    #[inline]
+    pub fn row_run_blocked(&self, y: isize, x0: isize, x1: isize) -> bool {
+        if x0 > x1 {
+            return false;
+        }
+        if y < 0 || x0 < 0 || y as usize >= self.height || x1 as usize >= self.width {
+            return true;
+        }
+        let base = y as usize * self.width;
+        any_set(self.bits, base + x0 as usize, base + x1 as usize)
+    }
+
+    /// Whether any cell of column `x`, rows `y0..=y1`, is blocked (cells outside the map are).
+    #[inline]
+    pub fn column_run_blocked(&self, x: isize, y0: isize, y1: isize) -> bool {
+        if y0 > y1 {
+            return false;
+        }
+        if x < 0 || y0 < 0 || x as usize >= self.width || y1 as usize >= self.height {
+            return true;
+        }
+        let base = x as usize * self.height;
+        any_set(self.columns, base + y0 as usize, base + y1 as usize)
+    }
+
     /// Whether a cell is on the map and free.
     #[inline]
     pub fn is_free(&self, cell: Cell) -> bool {
@@ -314,6 +342,31 @@ impl<'a> GridRef<'a> {
         (0..self.cells())
             .filter(|&i| self.is_blocked((i % self.width) as isize, (i / self.width) as isize))
             .count()
+    }
+}
+
+fn set_bit(bits: &mut [u32], i: usize, value: bool) -> Result<(), GridError> {
+    let slot = bits.get_mut(i / 32).ok_or(GridError::OutOfBounds)?;
+    if value {
+        *slot |= 1 << (i % 32);
+    } else {
+        *slot &= !(1 << (i % 32));
+    }
+    Ok(())
+}
+
+/// Whether any bit in `first..=last` is set (missing words count as set).
+#[inline]
+fn any_set(bits: &[u32], first: usize, last: usize) -> bool {
+    let (w0, w1) = (first / 32, last / 32);
+    let head = !0u32 << (first % 32);
+    let tail = !0u32 >> (31 - last % 32);
+    if w0 == w1 {
+        return bits.get(w0).is_none_or(|w| w & head & tail != 0);
+    }
+    match (bits.get(w0), bits.get(w1), bits.get(w0 + 1..w1)) {
+        (Some(a), Some(b), Some(mid)) => a & head != 0 || b & tail != 0 || mid.iter().any(|w| *w != 0),
+        _ => true,
     }
 }
 
@@ -469,6 +522,28 @@ mod tests {
             assert_eq!(v.index(v.cell(i)), Some(i));
         }
         assert_eq!(v.index(Cell::new(5, 0)), None);
+    }
+
+    #[test]
+    fn runs_agree_with_cells() {
+        let g = Small::parse_rows(b"........\n...@....\n........\n.......@\n@.......\n").unwrap();
+        let v = g.view();
+        for a in -1..9isize {
+            for b in a..9 {
+                for line in -1..9isize {
+                    let row = (a..=b).any(|x| v.is_blocked(x, line));
+                    assert_eq!(v.row_run_blocked(line, a, b), row, "row {line} {a}..{b}");
+                    let col = (a..=b).any(|y| v.is_blocked(line, y));
+                    assert_eq!(v.column_run_blocked(line, a, b), col, "col {line} {a}..{b}");
+                }
+            }
+        }
+        assert!(!v.row_run_blocked(0, 3, 2));
+        let mut wide = Grid::<{ words_for(100, 2) }>::new(100, 2).unwrap();
+        wide.set_blocked(70, 1, true).unwrap();
+        assert!(wide.view().row_run_blocked(1, 5, 95));
+        assert!(!wide.view().row_run_blocked(1, 5, 69));
+        assert!(!wide.view().row_run_blocked(0, 0, 99));
     }
 
     #[test]

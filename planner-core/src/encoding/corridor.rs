@@ -71,35 +71,43 @@ impl<'a> CorridorEncoding<'a> {
             return Err(PlanError::InvalidParameters);
         }
         let last = guide.len() - 1;
-        let total: f32 = crate::path::length(guide);
-        let wanted = libm::floorf(total / spacing) as usize;
-        let k = wanted.min(max_vars).min(stations.len().saturating_sub(2)).min(last.saturating_sub(1));
-        // Station k sits at the guide vertex nearest to arc length k * total / (K + 1); the
-        // indices are strictly increasing because K + 1 <= last.
-        let mut prev_index = 0usize;
-        let mut arc = 0.0f32;
-        let mut vertex = 0usize;
-        for s in 0..k + 2 {
-            let index = if s == 0 {
-                0
-            } else if s == k + 1 {
-                last
-            } else {
-                let target = total * s as f32 / (k + 1) as f32;
-                while vertex < last && arc + guide[vertex].distance(guide[vertex + 1]) <= target {
-                    arc += guide[vertex].distance(guide[vertex + 1]);
-                    vertex += 1;
+        // Candidate stations: every bend of the guide (where length is won by cutting the
+        // corner) and evenly spaced points on runs longer than `spacing`.
+        let candidates = |emit: &mut dyn FnMut(usize)| {
+            let mut run_start = 0usize;
+            for i in 1..=last {
+                let bend = i < last && !same_heading(guide[i - 1], guide[i], guide[i + 1]);
+                if bend || i == last {
+                    let run = guide[run_start].distance(guide[i]);
+                    let extra = libm::ceilf(run / spacing) as usize;
+                    let steps = i - run_start;
+                    for e in 1..extra.min(steps) {
+                        emit(run_start + e * steps / extra.min(steps));
+                    }
+                    if bend {
+                        emit(i);
+                    }
+                    run_start = i;
                 }
-                // Keep room for the remaining stations.
-                vertex.max(prev_index + 1).min(last - (k + 1 - s))
-            };
-            stations[s] = Station {
-                index: index as u32,
-                point: guide[index],
-                ..Station::default()
-            };
-            prev_index = index;
-        }
+            }
+        };
+        let mut count = 0usize;
+        candidates(&mut |_| count += 1);
+        let k = count.min(max_vars).min(stations.len().saturating_sub(2));
+        // Thin evenly when there are more candidates than variables.
+        stations[0] = Station { index: 0, point: guide[0], ..Station::default() };
+        let mut seen = 0usize;
+        let mut kept = 0usize;
+        candidates(&mut |index| {
+            // Exactly k of the count candidates, evenly: keep the ones where floor(seen k / count) steps.
+            if kept < k && (seen + 1) * k / count > seen * k / count {
+                kept += 1;
+                stations[kept] = Station { index: index as u32, point: guide[index], ..Station::default() };
+            }
+            seen += 1;
+        });
+        let k = kept;
+        stations[k + 1] = Station { index: last as u32, point: guide[last], ..Station::default() };
         for s in 0..k + 2 {
             let i = stations[s].index as usize;
             if s + 1 < k + 2 {
@@ -136,6 +144,11 @@ impl<'a> CorridorEncoding<'a> {
             guide,
             stations: &stations[..k + 2],
         })
+    }
+
+    /// The guide indices of the movable stations.
+    pub fn station_indices(&self) -> impl Iterator<Item = usize> + '_ {
+        self.stations[1..self.stations.len() - 1].iter().map(|s| s.index as usize)
     }
 
     fn waypoint(&self, s: usize, x: &[f32]) -> Point {
@@ -198,6 +211,12 @@ impl Encoding for CorridorEncoding<'_> {
         }
         Ok(())
     }
+}
+
+/// Whether `a -> b -> c` keeps its heading (no bend at `b`).
+fn same_heading(a: Point, b: Point, c: Point) -> bool {
+    let (u, v) = ((b.x - a.x, b.y - a.y), (c.x - b.x, c.y - b.y));
+    u.0 * v.1 - u.1 * v.0 == 0.0 && u.0 * v.0 + u.1 * v.1 > 0.0
 }
 
 #[cfg(test)]

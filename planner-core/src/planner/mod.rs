@@ -26,6 +26,8 @@
 //! ```
 
 pub mod aco;
+#[cfg(feature = "alloc")]
+pub mod owned;
 
 use crate::encoding::column::ColumnEncoding;
 use crate::encoding::corridor::{CorridorEncoding, Station};
@@ -39,6 +41,66 @@ use crate::optim::random::Random;
 use crate::optim::{Bounds, OptimError, Optimizer, Settings};
 use crate::path::{self, PathView};
 use crate::search::{astar, check_endpoints, SearchNode};
+
+/// Every planner of the crate, by its command-line name.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub enum PlannerKind {
+    /// A*, octile costs, no corner cutting (`astar`).
+    AStar,
+    /// Theta*, any-angle (`theta`).
+    Theta,
+    /// Seed 000's ant colony (`aco`).
+    Aco,
+    /// A swarm optimizer over an encoding ([`plan`]).
+    Swarm(AlgorithmKind),
+}
+
+impl PlannerKind {
+    /// Every planner, in a fixed order (also their wire codes' order).
+    pub const ALL: [PlannerKind; 12] = [
+        PlannerKind::AStar,
+        PlannerKind::Theta,
+        PlannerKind::Aco,
+        PlannerKind::Swarm(AlgorithmKind::Tclhho),
+        PlannerKind::Swarm(AlgorithmKind::Igwo),
+        PlannerKind::Swarm(AlgorithmKind::Hho),
+        PlannerKind::Swarm(AlgorithmKind::Gwo),
+        PlannerKind::Swarm(AlgorithmKind::Tgwo),
+        PlannerKind::Swarm(AlgorithmKind::Pso),
+        PlannerKind::Swarm(AlgorithmKind::Ga),
+        PlannerKind::Swarm(AlgorithmKind::Ssa),
+        PlannerKind::Swarm(AlgorithmKind::SsaGwo),
+    ];
+
+    /// The command-line name (`astar`, `theta`, `aco`, `tclhho`, ...).
+    pub fn name(self) -> &'static str {
+        match self {
+            PlannerKind::AStar => "astar",
+            PlannerKind::Theta => "theta",
+            PlannerKind::Aco => "aco",
+            PlannerKind::Swarm(a) => a.name(),
+        }
+    }
+
+    /// Whether the planner uses random numbers (the seed matters).
+    pub fn is_stochastic(self) -> bool {
+        !matches!(self, PlannerKind::AStar | PlannerKind::Theta)
+    }
+}
+
+impl core::str::FromStr for PlannerKind {
+    type Err = PlanError;
+
+    /// Parses a name; an unknown one is [`PlanError::InvalidParameters`].
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        PlannerKind::ALL
+            .iter()
+            .copied()
+            .find(|k| k.name().eq_ignore_ascii_case(s))
+            .ok_or(PlanError::InvalidParameters)
+    }
+}
 
 /// How a decision vector becomes a path (see [`crate::encoding`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
