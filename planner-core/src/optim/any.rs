@@ -165,4 +165,23 @@ mod tests {
         assert_eq!("ACO".parse::<AlgorithmKind>(), Err(OptimError::UnknownName));
         assert_eq!("TCLHHO".parse::<AlgorithmKind>(), Ok(AlgorithmKind::Tclhho));
     }
+
+    /// The capacities only bound the sizes: the same runtime sizes and seed give bit-identical
+    /// runs whatever `N` and `D` are (the firmware's 30 x 64 and the host's 128 x 128 agree).
+    #[test]
+    fn results_do_not_depend_on_capacity() {
+        use crate::optim::Stop;
+        let mut f = |x: &[f32]| x.iter().enumerate().map(|(i, v)| (v - i as f32) * (v - i as f32)).sum::<f32>();
+        for kind in AlgorithmKind::ALL {
+            let s = Settings { population: 12, iterations: 40, seed: 77 };
+            let small = Bounds::<6>::uniform(6, -10.0, 10.0).unwrap();
+            let big = Bounds::<20>::uniform(6, -10.0, 10.0).unwrap();
+            let mut a = AnyOptimizer::<12, 6>::new(kind, s, &small).unwrap();
+            let mut b = AnyOptimizer::<40, 20>::new(kind, s, &big).unwrap();
+            let ra = a.run(&mut f, None, &Stop::default(), &mut []).unwrap();
+            let rb = b.run(&mut f, None, &Stop::default(), &mut []).unwrap();
+            assert_eq!(ra, rb, "{kind:?}");
+            assert_eq!(a.best_position(), b.best_position(), "{kind:?}");
+        }
+    }
 }

@@ -246,7 +246,8 @@ impl<const N: usize, const D: usize> Hho<N, D> {
         }
         let scale = self.params.levy_scale;
         let sw = &mut self.swarm;
-        for (z, y) in self.z.iter_mut().zip(&self.y) {
+        let dim = sw.dim();
+        for (z, y) in self.z.iter_mut().zip(&self.y).take(dim) {
             let s = sw.rng.unit();
             *z = y + s * scale * sw.rng.levy();
         }

@@ -13,8 +13,8 @@
 //!   repeat until `0 < s < 1` (about 1.27 attempts on average); the second normal of the pair is
 //!   discarded so that each call's draw count depends only on its own attempts;
 //! - [`Random::cauchy`]: `tan(pi (u - 1/2))` with `u` from `open_unit`;
-//! - [`Random::levy`]: Mantegna's algorithm, `beta = 1.5`: `u ~ N(0, sigma^2)` then
-//!   `v ~ N(0, 1)`, `step = u / |v|^(1/beta)`.
+//! - [`Random::levy`]: Mantegna's algorithm, `beta = 1.5`: `(u, v)` one polar pair,
+//!   `u` scaled by `sigma`, `step = u / |v|^(1/beta)` (computed as `cbrt(v^2)`).
 //!
 //! # Order of draws per algorithm (one generator per optimizer, reset by `init`)
 //! - **Initialisation**: uniform: member-major, dimension-minor, one `unit` per coordinate.
@@ -88,14 +88,20 @@ impl Random {
         ((u64::from(self.next_u32()) * n as u64) >> 32) as usize
     }
 
-    /// Standard normal, Marsaglia's polar method.
+    /// Standard normal, Marsaglia's polar method (the pair's second value is discarded).
     pub fn normal(&mut self) -> f32 {
+        self.normal_pair().0
+    }
+
+    /// Two independent standard normals from one accepted Marsaglia polar attempt.
+    pub fn normal_pair(&mut self) -> (f32, f32) {
         loop {
             let u = 2.0 * self.unit() - 1.0;
             let v = 2.0 * self.unit() - 1.0;
             let s = u * u + v * v;
             if s > 0.0 && s < 1.0 {
-                return u * super::sqrtf(-2.0 * libm::logf(s) / s);
+                let m = super::sqrtf(-2.0 * libm::logf(s) / s);
+                return (u * m, v * m);
             }
         }
     }
@@ -107,11 +113,12 @@ impl Random {
 
     /// One Mantegna Levy step with `beta = 1.5`, unscaled (HHO multiplies it by 0.01).
     pub fn levy(&mut self) -> f32 {
-        let u = self.normal() * LEVY_SIGMA_1_5;
-        let v = self.normal();
-        // |v|^(1/1.5); a zero `v` (probability ~0) would give an infinite step, which the box
-        // clamp absorbs, but keep it finite anyway.
-        let denom = libm::powf(libm::fabsf(v), 1.0 / LEVY_BETA).max(f32::MIN_POSITIVE);
+        // Both normals from one polar attempt: half the logarithms of two separate draws.
+        let (u, v) = self.normal_pair();
+        let u = u * LEVY_SIGMA_1_5;
+        // |v|^(1/1.5) = cbrt(v^2): libm's powf costs several times cbrtf. A zero `v`
+        // (probability ~0) would give an infinite step; keep it finite anyway.
+        let denom = libm::cbrtf(v * v).max(f32::MIN_POSITIVE);
         u / denom
     }
 }
@@ -175,10 +182,9 @@ mod tests {
     fn levy_steps_have_the_mantegna_scale() {
         // sigma from Mantegna's formula, in f64 with libm's gamma.
         let b = 1.5f64;
-        let sigma = (libm::tgamma(1.0 + b) * libm::sin(core::f64::consts::PI * b / 2.0)
-            / (libm::tgamma((1.0 + b) / 2.0) * b * libm::pow(2.0, (b - 1.0) / 2.0)))
-        ;
-        let sigma = libm::pow(sigma, 1.0 / b);
+        let ratio = libm::tgamma(1.0 + b) * libm::sin(core::f64::consts::PI * b / 2.0)
+            / (libm::tgamma((1.0 + b) / 2.0) * b * libm::pow(2.0, (b - 1.0) / 2.0));
+        let sigma = libm::pow(ratio, 1.0 / b);
         assert!((sigma - f64::from(LEVY_SIGMA_1_5)).abs() < 1e-6, "{sigma}");
         // The step u/|v|^(2/3) is symmetric with median |step| equal to sigma times the median
         // of |N1|/|N2|^(2/3); that median is a fixed number (0.905 by a 2*10^6-sample f64
