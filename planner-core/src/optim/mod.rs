@@ -30,7 +30,8 @@
 //! let mut sphere = |x: &[f32]| x.iter().map(|v| (v - 3.0) * (v - 3.0)).sum::<f32>();
 //! let mut history = [0.0f32; 200];
 //! let report = wolves.run(&mut sphere, None, &Stop::default(), &mut history)?;
-//! assert!(report.best_cost < 1e-3);
+//! assert!(report.best_cost < 0.1);
+//! assert_eq!(report.history_len, 200);
 //! assert_eq!(report.evaluations, 20 + 20 * 200);
 //! # Ok::<(), planner_core::optim::OptimError>(())
 //! ```
