@@ -5,7 +5,10 @@ mod cmd;
 use clap::{Parser, Subcommand};
 
 #[derive(Parser)]
-#[command(name = "host-sim", about = "Host simulator for the warehouse path planner")]
+#[command(
+    name = "host-sim",
+    about = "Host simulator for the warehouse path planner"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,

@@ -103,14 +103,34 @@ struct Output {
 fn stats(values: &[f64]) -> Stats {
     let n = values.len();
     if n == 0 {
-        return Stats { mean: f64::NAN, std: f64::NAN, min: f64::NAN, max: f64::NAN, median: f64::NAN };
+        return Stats {
+            mean: f64::NAN,
+            std: f64::NAN,
+            min: f64::NAN,
+            max: f64::NAN,
+            median: f64::NAN,
+        };
     }
     let mean = values.iter().sum::<f64>() / n as f64;
-    let var = if n > 1 { values.iter().map(|v| (v - mean) * (v - mean)).sum::<f64>() / (n - 1) as f64 } else { 0.0 };
+    let var = if n > 1 {
+        values.iter().map(|v| (v - mean) * (v - mean)).sum::<f64>() / (n - 1) as f64
+    } else {
+        0.0
+    };
     let mut sorted = values.to_vec();
     sorted.sort_by(f64::total_cmp);
-    let median = if n % 2 == 1 { sorted[n / 2] } else { (sorted[n / 2 - 1] + sorted[n / 2]) / 2.0 };
-    Stats { mean, std: var.sqrt(), min: sorted[0], max: sorted[n - 1], median }
+    let median = if n % 2 == 1 {
+        sorted[n / 2]
+    } else {
+        (sorted[n / 2 - 1] + sorted[n / 2]) / 2.0
+    };
+    Stats {
+        mean,
+        std: var.sqrt(),
+        min: sorted[0],
+        max: sorted[n - 1],
+        median,
+    }
 }
 
 /// Runs the command and prints its JSON to stdout.
@@ -128,10 +148,12 @@ fn execute(args: &OptimizeArgs) -> anyhow::Result<Output> {
             anyhow!("unknown function `{}` (f1..f11, sphere, rastrigin, rosenbrock, ackley)", args.function)
         }
     })?;
-    let algo: AlgorithmKind = args
-        .algo
-        .parse()
-        .map_err(|_| anyhow!("unknown algorithm `{}` (hho, tclhho, gwo, tgwo, igwo, ssa, ssagwo, pso, ga)", args.algo))?;
+    let algo: AlgorithmKind = args.algo.parse().map_err(|_| {
+        anyhow!(
+            "unknown algorithm `{}` (hho, tclhho, gwo, tgwo, igwo, ssa, ssagwo, pso, ga)",
+            args.algo
+        )
+    })?;
     let dim = args.dim.or(kind.fixed_dim()).unwrap_or(30);
     if dim > MAX_DIM {
         bail!("dimension {dim} above the host capacity {MAX_DIM}");
@@ -142,19 +164,40 @@ fn execute(args: &OptimizeArgs) -> anyhow::Result<Output> {
     if args.runs == 0 {
         bail!("--runs must be at least 1");
     }
-    let stop = Stop { max_iterations: None, max_evaluations: args.max_evals, target_cost: args.target, stagnation: args.stagnation };
+    let stop = Stop {
+        max_iterations: None,
+        max_evaluations: args.max_evals,
+        target_cost: args.target,
+        stagnation: args.stagnation,
+    };
     let mut runs = Vec::with_capacity(args.runs as usize);
     for k in 0..args.runs {
         let seed = args.seed.wrapping_add(u64::from(k));
         let mut objective = Benchmark::new(kind, dim, args.shift, seed ^ 0x9E37_79B9_7F4A_7C15)
-            .map_err(|e| anyhow!("function `{}` at dimension {dim}, shift {}: {e}", kind.name(), args.shift))?;
-        let bounds = objective.bounds::<MAX_DIM>().map_err(|e| anyhow!("bounds: {e}"))?;
-        let settings = Settings { population: args.pop, iterations: args.iters, seed };
+            .map_err(|e| {
+                anyhow!(
+                    "function `{}` at dimension {dim}, shift {}: {e}",
+                    kind.name(),
+                    args.shift
+                )
+            })?;
+        let bounds = objective
+            .bounds::<MAX_DIM>()
+            .map_err(|e| anyhow!("bounds: {e}"))?;
+        let settings = Settings {
+            population: args.pop,
+            iterations: args.iters,
+            seed,
+        };
         let mut opt: Box<AnyOptimizer<MAX_POP, MAX_DIM>> = Box::new(
-            AnyOptimizer::new(algo, settings, &bounds).map_err(|e| anyhow!("algorithm `{}`: {e}", algo.name()))?,
+            AnyOptimizer::new(algo, settings, &bounds)
+                .map_err(|e| anyhow!("algorithm `{}`: {e}", algo.name()))?,
         );
         let start = Instant::now();
-        let report = opt.run(&mut objective, None, &stop, &mut []).map_err(|e| anyhow!("run {k}: {e}")).context("optimize")?;
+        let report = opt
+            .run(&mut objective, None, &stop, &mut [])
+            .map_err(|e| anyhow!("run {k}: {e}"))
+            .context("optimize")?;
         let time_us = start.elapsed().as_secs_f64() * 1e6;
         runs.push(RunOut {
             run: k,

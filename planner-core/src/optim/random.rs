@@ -54,7 +54,9 @@ pub struct Random {
 impl Random {
     /// A generator fully determined by `seed`.
     pub fn new(seed: u64) -> Self {
-        Self { rng: Xoshiro128PlusPlus::seed_from_u64(seed) }
+        Self {
+            rng: Xoshiro128PlusPlus::seed_from_u64(seed),
+        }
     }
 
     /// The next raw 32-bit word.
@@ -197,6 +199,9 @@ mod tests {
         v.sort_unstable_by(f32::total_cmp);
         let median = f64::from(v[10000]);
         let expected = sigma * 0.905;
-        assert!((median / expected - 1.0).abs() < 0.03, "{median} vs {expected}");
+        assert!(
+            (median / expected - 1.0).abs() < 0.03,
+            "{median} vs {expected}"
+        );
     }
 }

@@ -13,7 +13,9 @@
 use super::gwo::{Leaders, hunt};
 use super::schedule::{ConvergenceFactor, Schedule};
 use super::ssa::{SsaParams, sparrow_step};
-use super::{Bounds, Initialisation, Objective, OptimError, Optimizer, Settings, Swarm, swarm_accessors};
+use super::{
+    Bounds, Initialisation, Objective, OptimError, Optimizer, Settings, Swarm, swarm_accessors,
+};
 
 /// Options of SSA-GWO.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -30,7 +32,10 @@ impl SsaGwoParams {
     pub const fn seed_001() -> Self {
         let mut sparrow = SsaParams::seed_001();
         sparrow.init = Initialisation::Opposition;
-        Self { factor: ConvergenceFactor::MirroredSigmoid, sparrow }
+        Self {
+            factor: ConvergenceFactor::MirroredSigmoid,
+            sparrow,
+        }
     }
 
     fn validate(&self) -> Result<(), OptimError> {
@@ -55,9 +60,17 @@ pub struct SsaGwo<const N: usize, const D: usize> {
 
 impl<const N: usize, const D: usize> SsaGwo<N, D> {
     /// Validates and builds; call [`Optimizer::init`] next. Needs at least 3 members.
-    pub fn new(settings: Settings, bounds: &Bounds<D>, params: SsaGwoParams) -> Result<Self, OptimError> {
+    pub fn new(
+        settings: Settings,
+        bounds: &Bounds<D>,
+        params: SsaGwoParams,
+    ) -> Result<Self, OptimError> {
         params.validate()?;
-        Ok(Self { swarm: Swarm::new(settings, bounds, 3)?, params, leaders: Leaders::new() })
+        Ok(Self {
+            swarm: Swarm::new(settings, bounds, 3)?,
+            params,
+            leaders: Leaders::new(),
+        })
     }
 
     /// The leaders as recomputed after the last iteration.
@@ -67,8 +80,13 @@ impl<const N: usize, const D: usize> SsaGwo<N, D> {
 }
 
 impl<const N: usize, const D: usize> Optimizer for SsaGwo<N, D> {
-    fn init<O: Objective + ?Sized>(&mut self, objective: &mut O, initial: Option<&[&[f32]]>) -> Result<(), OptimError> {
-        self.swarm.initialise(objective, self.params.sparrow.init, initial)?;
+    fn init<O: Objective + ?Sized>(
+        &mut self,
+        objective: &mut O,
+        initial: Option<&[&[f32]]>,
+    ) -> Result<(), OptimError> {
+        self.swarm
+            .initialise(objective, self.params.sparrow.init, initial)?;
         self.leaders = Leaders::from_population(&self.swarm.pop);
         Ok(())
     }
@@ -112,7 +130,11 @@ mod tests {
     #[test]
     fn counts_and_leaders() {
         let b = Bounds::<5>::uniform(5, -10.0, 10.0).unwrap();
-        let s = Settings { population: 20, iterations: 25, seed: 2 };
+        let s = Settings {
+            population: 20,
+            iterations: 25,
+            seed: 2,
+        };
         let mut a = SsaGwo::<20, 5>::new(s, &b, SsaGwoParams::seed_001()).unwrap();
         let mut obj = |x: &[f32]| x.iter().map(|v| (v - 3.0) * (v - 3.0)).sum::<f32>();
         let r = a.run(&mut obj, None, &Stop::default(), &mut []).unwrap();
