@@ -10,6 +10,7 @@ use std::time::Instant;
 use anyhow::{Context, anyhow, bail};
 use planner_core::optim::any::{AlgorithmKind, AnyOptimizer};
 use planner_core::optim::functions::{Benchmark, FunctionKind};
+use planner_core::optim::gwo::{Gwo, GwoParams};
 use planner_core::optim::{Optimizer, Settings, Stop};
 use serde::Serialize;
 
@@ -55,6 +56,10 @@ pub struct OptimizeArgs {
     /// Optional: stop after this many iterations without improvement.
     #[arg(long)]
     pub stagnation: Option<u32>,
+    /// GWO family only: keep a wolf's move only if it improves it (mealpy's OriginalGWO
+    /// variant; SPEC's GWO has no greedy selection).
+    #[arg(long)]
+    pub greedy: bool,
 }
 
 #[derive(Serialize)]
@@ -93,6 +98,7 @@ struct Output {
     shift: f32,
     optimum: f32,
     algo: &'static str,
+    greedy: bool,
     pop: usize,
     iters: u32,
     seed: u64,
@@ -189,10 +195,27 @@ fn execute(args: &OptimizeArgs) -> anyhow::Result<Output> {
             iterations: args.iters,
             seed,
         };
-        let mut opt: Box<AnyOptimizer<MAX_POP, MAX_DIM>> = Box::new(
+        let built = if args.greedy {
+            let base = match algo {
+                AlgorithmKind::Gwo => GwoParams::gwo(),
+                AlgorithmKind::Tgwo => GwoParams::tgwo(),
+                AlgorithmKind::Igwo => GwoParams::igwo(),
+                _ => bail!("--greedy applies to gwo, tgwo and igwo only"),
+            };
+            Gwo::new(
+                settings,
+                &bounds,
+                GwoParams {
+                    greedy: true,
+                    ..base
+                },
+            )
+            .map(AnyOptimizer::Gwo)
+        } else {
             AnyOptimizer::new(algo, settings, &bounds)
-                .map_err(|e| anyhow!("algorithm `{}`: {e}", algo.name()))?,
-        );
+        };
+        let mut opt: Box<AnyOptimizer<MAX_POP, MAX_DIM>> =
+            Box::new(built.map_err(|e| anyhow!("algorithm `{}`: {e}", algo.name()))?);
         let start = Instant::now();
         let report = opt
             .run(&mut objective, None, &stop, &mut [])
@@ -223,6 +246,7 @@ fn execute(args: &OptimizeArgs) -> anyhow::Result<Output> {
         shift: args.shift,
         optimum: kind.optimum(),
         algo: algo.name(),
+        greedy: args.greedy,
         pop: args.pop,
         iters: args.iters,
         seed: args.seed,

@@ -38,6 +38,9 @@ pub struct GwoParams {
     pub factor: ConvergenceFactor,
     /// Leader archive update.
     pub leaders: LeaderUpdate,
+    /// Keep a wolf's move only if it improves the wolf (mealpy's `OriginalGWO` does this;
+    /// `GWO.m` and SPEC do not: off by default).
+    pub greedy: bool,
 }
 
 impl GwoParams {
@@ -47,6 +50,7 @@ impl GwoParams {
             init: Initialisation::Uniform,
             factor: ConvergenceFactor::Linear,
             leaders: LeaderUpdate::Cascade,
+            greedy: false,
         }
     }
 
@@ -251,6 +255,22 @@ impl<const N: usize, const D: usize> Optimizer for Gwo<N, D> {
         let t = self.swarm.begin_step()?;
         let a = self.params.factor.value(t, self.swarm.settings.iterations);
         let mut row = [0.0f32; D];
+        if self.params.greedy {
+            // Leaders stay fixed during the pass, as in the plain variant.
+            let leaders = self.leaders;
+            let dim = self.swarm.dim();
+            for i in 0..self.swarm.n() {
+                let sw = &mut self.swarm;
+                hunt(sw.pop.position(i), &leaders, a, &mut sw.rng, &mut row);
+                let cand = row.get_mut(..dim).unwrap_or(&mut []);
+                let cost = sw.clamp_and_evaluate(objective, cand);
+                if cost < sw.pop.cost(i) {
+                    sw.pop.replace(i, cand, cost);
+                }
+                self.leaders.offer(cand, cost, self.params.leaders);
+            }
+            return Ok(());
+        }
         for i in 0..self.swarm.n() {
             let sw = &mut self.swarm;
             hunt(sw.pop.position(i), &self.leaders, a, &mut sw.rng, &mut row);
@@ -342,5 +362,29 @@ mod tests {
             assert!(g.leaders().beta.cost <= g.leaders().delta.cost);
             assert_eq!(r.evaluations, 12 * 51);
         }
+    }
+
+    #[test]
+    fn greedy_variant_never_loses_a_wolf() {
+        let b = Bounds::<6>::uniform(6, -100.0, 100.0).unwrap();
+        let s = Settings {
+            population: 12,
+            iterations: 100,
+            seed: 4,
+        };
+        let mut obj = |x: &[f32]| x.iter().map(|v| (v - 37.5) * (v - 37.5)).sum::<f32>();
+        let mut g = Gwo::<12, 6>::new(
+            s,
+            &b,
+            GwoParams {
+                greedy: true,
+                ..GwoParams::gwo()
+            },
+        )
+        .unwrap();
+        let mut hist = [0.0f32; 100];
+        let r = g.run(&mut obj, None, &Stop::default(), &mut hist).unwrap();
+        assert_eq!(r.evaluations, 12 * 101);
+        assert_eq!(g.leaders().alpha.cost, r.best_cost);
     }
 }
