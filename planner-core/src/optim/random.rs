@@ -25,12 +25,14 @@
 //!   mutation draws instead of all of these); else `r`, then `J` for the three moves that use it;
 //!   a failed dive `Y` then draws per dimension `S_j` and one Levy step. After all hawks
 //!   (TCLHHO): `P`, then per dimension a Cauchy draw (`P >= 0.5`) or `K1, K2` (opposition).
-//! - **GWO / TGWO / IGWO**, per wolf, per dimension, per leader (alpha, beta, delta): `r1, r2`.
+//! - **GWO / TGWO / IGWO**, per wolf, per dimension, per leader (alpha, beta, delta): `r1, r2`
+//!   (the same with or without the greedy option).
 //! - **SSA**: `R2`; per producer in rank order one `alpha` (`R2 < ST`) or one normal `Q`;
 //!   per scrounger in rank order: worse half one normal `Q`, better half one sign per
 //!   dimension; scouts: partial Fisher-Yates (one `index` per scout), then per scout either one
 //!   normal per dimension or one `unit` for `K`.
-//! - **SSA-GWO**: the GWO draws, then the SSA draws, each iteration.
+//! - **SSA-GWO**: the GWO draws, then the SSA draws, each iteration; the PSO-style variant
+//!   ([`crate::optim::ssa_gwo::SsaGwoPso`]) draws the PSO draws instead of the SSA ones.
 //! - **PSO**: per particle, per dimension: `r1, r2`.
 //! - **GA**: per offspring pair: two tournaments (two `index` each), the crossover test, the
 //!   blend weight, then per gene of each child the mutation test and, if mutated, one normal.
