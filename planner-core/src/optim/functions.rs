@@ -87,8 +87,12 @@ pub const TABLE_1: [FunctionKind; 11] = [
 ];
 
 /// The shifted functions of any dimension.
-pub const SHIFTED: [FunctionKind; 4] =
-    [FunctionKind::Sphere, FunctionKind::Rastrigin, FunctionKind::Rosenbrock, FunctionKind::Ackley];
+pub const SHIFTED: [FunctionKind; 4] = [
+    FunctionKind::Sphere,
+    FunctionKind::Rastrigin,
+    FunctionKind::Rosenbrock,
+    FunctionKind::Ackley,
+];
 
 impl FunctionKind {
     /// The command-line name: `f1`..`f11`, `sphere`, `rastrigin`, `rosenbrock`, `ackley`.
@@ -176,7 +180,12 @@ impl FromStr for FunctionKind {
     type Err = OptimError;
 
     fn from_str(s: &str) -> Result<Self, Self::Err> {
-        TABLE_1.iter().chain(SHIFTED.iter()).copied().find(|k| k.name() == s).ok_or(OptimError::UnknownName)
+        TABLE_1
+            .iter()
+            .chain(SHIFTED.iter())
+            .copied()
+            .find(|k| k.name() == s)
+            .ok_or(OptimError::UnknownName)
     }
 }
 
@@ -193,7 +202,12 @@ impl Benchmark {
     /// Checks the dimension (fixed for table functions, >= 1 for shifted ones, >= 2 for
     /// Rosenbrock) and the shift (only for shifted functions, finite and inside the box).
     /// `noise_seed` seeds `f4`'s noise.
-    pub fn new(kind: FunctionKind, dim: usize, shift: f32, noise_seed: u64) -> Result<Self, OptimError> {
+    pub fn new(
+        kind: FunctionKind,
+        dim: usize,
+        shift: f32,
+        noise_seed: u64,
+    ) -> Result<Self, OptimError> {
         match kind.fixed_dim() {
             Some(d) if d != dim => return Err(OptimError::DimensionOutOfRange),
             None if dim == 0 || (kind == FunctionKind::Rosenbrock && dim < 2) => {
@@ -205,7 +219,12 @@ impl Benchmark {
         if !shift.is_finite() || (shift != 0.0 && !kind.is_shifted()) || shift < lo || shift > hi {
             return Err(OptimError::InvalidParameter("shift"));
         }
-        Ok(Self { kind, dim, shift, noise: Random::new(noise_seed) })
+        Ok(Self {
+            kind,
+            dim,
+            shift,
+            noise: Random::new(noise_seed),
+        })
     }
 
     /// The function.
@@ -228,7 +247,10 @@ impl Benchmark {
         for (d, (l, h)) in lo.iter_mut().zip(hi.iter_mut()).enumerate().take(self.dim) {
             (*l, *h) = self.kind.interval(d);
         }
-        Bounds::from_slices(lo.get(..self.dim).unwrap_or(&[]), hi.get(..self.dim).unwrap_or(&[]))
+        Bounds::from_slices(
+            lo.get(..self.dim).unwrap_or(&[]),
+            hi.get(..self.dim).unwrap_or(&[]),
+        )
     }
 
     /// The value without `f4`'s noise (identical to [`Objective::cost`] for the others).
@@ -239,7 +261,11 @@ impl Benchmark {
             FunctionKind::DeJongRosenbrock | FunctionKind::Rosenbrock => {
                 let mut sum = 0.0;
                 // z = x - s + 1 puts the optimum (1, ..., 1) of Rosenbrock at (s, ..., s).
-                let off = if self.kind == FunctionKind::Rosenbrock { 1.0 - s } else { 0.0 };
+                let off = if self.kind == FunctionKind::Rosenbrock {
+                    1.0 - s
+                } else {
+                    0.0
+                };
                 for w in x.windows(2) {
                     let (a, b) = (w[0] + off, w[1] + off);
                     sum += 100.0 * (a * a - b) * (a * a - b) + (1.0 - a) * (1.0 - a);
@@ -247,12 +273,17 @@ impl Benchmark {
                 sum
             }
             FunctionKind::DeJongStep => x.iter().map(|v| libm::floorf(*v)).sum(),
-            FunctionKind::DeJongQuartic => {
-                x.iter().enumerate().map(|(i, v)| (i + 1) as f32 * (v * v) * (v * v)).sum()
-            }
+            FunctionKind::DeJongQuartic => x
+                .iter()
+                .enumerate()
+                .map(|(i, v)| (i + 1) as f32 * (v * v) * (v * v))
+                .sum(),
             FunctionKind::ShekelFoxholes => {
                 const A: [f32; 5] = [-32.0, -16.0, 0.0, 16.0, 32.0];
-                let (x0, x1) = (x.first().copied().unwrap_or(0.0), x.get(1).copied().unwrap_or(0.0));
+                let (x0, x1) = (
+                    x.first().copied().unwrap_or(0.0),
+                    x.get(1).copied().unwrap_or(0.0),
+                );
                 let mut sum = 0.0;
                 for j in 0..25 {
                     let d0 = x0 - A[j % 5];
@@ -277,28 +308,42 @@ impl Benchmark {
                 libm::powf(r2, 0.25) * (s * s + 1.0)
             }
             FunctionKind::GoldsteinPrice => {
-                let (a, b) = (x.first().copied().unwrap_or(0.0), x.get(1).copied().unwrap_or(0.0));
+                let (a, b) = (
+                    x.first().copied().unwrap_or(0.0),
+                    x.get(1).copied().unwrap_or(0.0),
+                );
                 let p = a + b + 1.0;
                 let q = 2.0 * a - 3.0 * b;
-                (1.0 + p * p * (19.0 - 14.0 * a + 3.0 * a * a - 14.0 * b + 6.0 * a * b + 3.0 * b * b))
-                    * (30.0 + q * q * (18.0 - 32.0 * a + 12.0 * a * a + 48.0 * b - 36.0 * a * b + 27.0 * b * b))
+                (1.0 + p
+                    * p
+                    * (19.0 - 14.0 * a + 3.0 * a * a - 14.0 * b + 6.0 * a * b + 3.0 * b * b))
+                    * (30.0
+                        + q * q
+                            * (18.0 - 32.0 * a + 12.0 * a * a + 48.0 * b - 36.0 * a * b
+                                + 27.0 * b * b))
             }
             FunctionKind::Shubert => {
                 let term = |v: f32| -> f32 {
-                    (1..=5).map(|i| i as f32 * libm::cosf((i + 1) as f32 * v + i as f32)).sum()
+                    (1..=5)
+                        .map(|i| i as f32 * libm::cosf((i + 1) as f32 * v + i as f32))
+                        .sum()
                 };
                 term(x.first().copied().unwrap_or(0.0)) * term(x.get(1).copied().unwrap_or(0.0))
             }
             FunctionKind::SixHumpCamel => {
-                let (a, b) = (x.first().copied().unwrap_or(0.0), x.get(1).copied().unwrap_or(0.0));
+                let (a, b) = (
+                    x.first().copied().unwrap_or(0.0),
+                    x.get(1).copied().unwrap_or(0.0),
+                );
                 let a2 = a * a;
                 (4.0 - 2.1 * a2 + a2 * a2 / 3.0) * a2 + a * b + (-4.0 + 4.0 * b * b) * b * b
             }
             FunctionKind::G01 => g01(x),
             FunctionKind::Sphere => x.iter().map(|v| (v - s) * (v - s)).sum(),
-            FunctionKind::Rastrigin => {
-                x.iter().map(|v| (v - s) * (v - s) - 10.0 * libm::cosf(2.0 * PI * (v - s)) + 10.0).sum()
-            }
+            FunctionKind::Rastrigin => x
+                .iter()
+                .map(|v| (v - s) * (v - s) - 10.0 * libm::cosf(2.0 * PI * (v - s)) + 10.0)
+                .sum(),
             FunctionKind::Ackley => {
                 let n = x.len().max(1) as f32;
                 let sq: f32 = x.iter().map(|v| (v - s) * (v - s)).sum();
@@ -338,7 +383,11 @@ fn g01(x: &[f32]) -> f32 {
 impl Objective for Benchmark {
     fn cost(&mut self, x: &[f32]) -> f32 {
         let base = self.noiseless(x);
-        if self.kind == FunctionKind::DeJongQuartic { base + self.noise.normal() } else { base }
+        if self.kind == FunctionKind::DeJongQuartic {
+            base + self.noise.normal()
+        } else {
+            base
+        }
     }
 }
 
@@ -383,14 +432,25 @@ mod tests {
 
     #[test]
     fn validation_and_names() {
-        assert_eq!("f10".parse::<FunctionKind>(), Ok(FunctionKind::SixHumpCamel));
+        assert_eq!(
+            "f10".parse::<FunctionKind>(),
+            Ok(FunctionKind::SixHumpCamel)
+        );
         assert_eq!("nope".parse::<FunctionKind>(), Err(OptimError::UnknownName));
         assert!(Benchmark::new(FunctionKind::DeJongSphere, 4, 0.0, 0).is_err());
         assert!(Benchmark::new(FunctionKind::DeJongSphere, 3, 1.0, 0).is_err());
         assert!(Benchmark::new(FunctionKind::Rastrigin, 3, 37.5, 0).is_err());
         assert!(Benchmark::new(FunctionKind::Rosenbrock, 1, 0.0, 0).is_err());
-        assert!(Benchmark::new(FunctionKind::Sphere, 30, 37.5, 0).unwrap().bounds::<16>().is_err());
-        let b = Benchmark::new(FunctionKind::SixHumpCamel, 2, 0.0, 0).unwrap().bounds::<2>().unwrap();
+        assert!(
+            Benchmark::new(FunctionKind::Sphere, 30, 37.5, 0)
+                .unwrap()
+                .bounds::<16>()
+                .is_err()
+        );
+        let b = Benchmark::new(FunctionKind::SixHumpCamel, 2, 0.0, 0)
+            .unwrap()
+            .bounds::<2>()
+            .unwrap();
         assert_eq!((b.lower(), b.upper()), (&[-3.0, -2.0][..], &[3.0, 2.0][..]));
     }
 

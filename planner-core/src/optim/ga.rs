@@ -12,8 +12,8 @@
 //! re-evaluated).
 
 use super::{
-    Bounds, Initialisation, Objective, OptimError, Optimizer, Population, Settings, Swarm, check_param,
-    swarm_accessors,
+    Bounds, Initialisation, Objective, OptimError, Optimizer, Population, Settings, Swarm,
+    check_param, swarm_accessors,
 };
 
 /// Options of the GA.
@@ -33,7 +33,12 @@ pub struct GaParams {
 impl GaParams {
     /// Seed 003: crossover 0.9, mutation 0.1 (step 0.1 of the width).
     pub const fn seed_003() -> Self {
-        Self { init: Initialisation::Uniform, crossover: 0.9, mutation: 0.1, sigma: 0.1 }
+        Self {
+            init: Initialisation::Uniform,
+            crossover: 0.9,
+            mutation: 0.1,
+            sigma: 0.1,
+        }
     }
 
     fn validate(&self) -> Result<(), OptimError> {
@@ -60,23 +65,39 @@ pub struct Ga<const N: usize, const D: usize> {
 
 impl<const N: usize, const D: usize> Ga<N, D> {
     /// Validates and builds; call [`Optimizer::init`] next. Needs at least 2 individuals.
-    pub fn new(settings: Settings, bounds: &Bounds<D>, params: GaParams) -> Result<Self, OptimError> {
+    pub fn new(
+        settings: Settings,
+        bounds: &Bounds<D>,
+        params: GaParams,
+    ) -> Result<Self, OptimError> {
         params.validate()?;
         let swarm = Swarm::new(settings, bounds, 2)?;
         let offspring = Population::new(settings.population, bounds.dim());
-        Ok(Self { swarm, params, offspring })
+        Ok(Self {
+            swarm,
+            params,
+            offspring,
+        })
     }
 
     fn tournament(&mut self) -> usize {
         let n = self.swarm.n();
         let a = self.swarm.rng.index(n);
         let b = self.swarm.rng.index(n);
-        if self.swarm.pop.cost(b) < self.swarm.pop.cost(a) { b } else { a }
+        if self.swarm.pop.cost(b) < self.swarm.pop.cost(a) {
+            b
+        } else {
+            a
+        }
     }
 }
 
 impl<const N: usize, const D: usize> Optimizer for Ga<N, D> {
-    fn init<O: Objective + ?Sized>(&mut self, objective: &mut O, initial: Option<&[&[f32]]>) -> Result<(), OptimError> {
+    fn init<O: Objective + ?Sized>(
+        &mut self,
+        objective: &mut O,
+        initial: Option<&[&[f32]]>,
+    ) -> Result<(), OptimError> {
         self.swarm.initialise(objective, self.params.init, initial)
     }
 
@@ -87,7 +108,11 @@ impl<const N: usize, const D: usize> Optimizer for Ga<N, D> {
         let p = self.params;
         let shrink = 1.0 - t as f32 / self.swarm.settings.iterations as f32;
         let elite = self.swarm.pop.best_index();
-        self.offspring.replace(0, self.swarm.pop.position(elite), self.swarm.pop.cost(elite));
+        self.offspring.replace(
+            0,
+            self.swarm.pop.position(elite),
+            self.swarm.pop.cost(elite),
+        );
         let mut k = 1;
         let mut c1 = [0.0f32; D];
         let mut c2 = [0.0f32; D];
@@ -97,8 +122,10 @@ impl<const N: usize, const D: usize> Optimizer for Ga<N, D> {
             let sw = &mut self.swarm;
             let recombine = sw.rng.unit() < p.crossover;
             let blend = sw.rng.unit();
-            for ((x1, x2), (a, b)) in
-                c1.iter_mut().zip(c2.iter_mut()).zip(sw.pop.position(pa).iter().zip(sw.pop.position(pb)))
+            for ((x1, x2), (a, b)) in c1
+                .iter_mut()
+                .zip(c2.iter_mut())
+                .zip(sw.pop.position(pa).iter().zip(sw.pop.position(pb)))
             {
                 if recombine {
                     *x1 = blend * a + (1.0 - blend) * b;
@@ -112,7 +139,10 @@ impl<const N: usize, const D: usize> Optimizer for Ga<N, D> {
                 if k >= n {
                     break;
                 }
-                for (g, (l, u)) in child.iter_mut().zip(sw.bounds.lower().iter().zip(sw.bounds.upper())) {
+                for (g, (l, u)) in child
+                    .iter_mut()
+                    .zip(sw.bounds.lower().iter().zip(sw.bounds.upper()))
+                {
                     if sw.rng.unit() < p.mutation {
                         *g += sw.rng.normal() * p.sigma * (u - l) * shrink;
                     }
@@ -138,7 +168,11 @@ mod tests {
     #[test]
     fn ga_improves_and_counts() {
         let b = Bounds::<4>::uniform(4, -10.0, 10.0).unwrap();
-        let s = Settings { population: 21, iterations: 100, seed: 1 };
+        let s = Settings {
+            population: 21,
+            iterations: 100,
+            seed: 1,
+        };
         let mut ga = Ga::<21, 4>::new(s, &b, GaParams::seed_003()).unwrap();
         let mut obj = |x: &[f32]| x.iter().map(|v| (v - 3.0) * (v - 3.0)).sum::<f32>();
         let r = ga.run(&mut obj, None, &Stop::default(), &mut []).unwrap();
@@ -149,7 +183,11 @@ mod tests {
     #[test]
     fn params_validated() {
         let b = Bounds::<2>::uniform(2, -1.0, 1.0).unwrap();
-        let s = Settings { population: 5, iterations: 5, seed: 0 };
+        let s = Settings {
+            population: 5,
+            iterations: 5,
+            seed: 0,
+        };
         let mut p = GaParams::seed_003();
         p.mutation = 1.1;
         assert!(Ga::<5, 2>::new(s, &b, p).is_err());

@@ -13,7 +13,8 @@
 
 use super::schedule::{ConvergenceFactor, Schedule};
 use super::{
-    Bounds, Initialisation, Objective, OptimError, Optimizer, Population, Settings, Swarm, copy, swarm_accessors,
+    Bounds, Initialisation, Objective, OptimError, Optimizer, Population, Settings, Swarm, copy,
+    swarm_accessors,
 };
 
 /// How the leader archive absorbs a newly evaluated wolf.
@@ -37,22 +38,36 @@ pub struct GwoParams {
     pub factor: ConvergenceFactor,
     /// Leader archive update.
     pub leaders: LeaderUpdate,
+    /// Keep a wolf's move only if it improves the wolf (mealpy's `OriginalGWO` does this;
+    /// `GWO.m` and SPEC do not: off by default).
+    pub greedy: bool,
 }
 
 impl GwoParams {
     /// GWO: uniform init, `a = 2 - 2t/T`, cascading leaders.
     pub const fn gwo() -> Self {
-        Self { init: Initialisation::Uniform, factor: ConvergenceFactor::Linear, leaders: LeaderUpdate::Cascade }
+        Self {
+            init: Initialisation::Uniform,
+            factor: ConvergenceFactor::Linear,
+            leaders: LeaderUpdate::Cascade,
+            greedy: false,
+        }
     }
 
     /// TGWO: GWO with the Tent initialisation (seed 000's comparison).
     pub const fn tgwo() -> Self {
-        Self { init: Initialisation::TENT, ..Self::gwo() }
+        Self {
+            init: Initialisation::TENT,
+            ..Self::gwo()
+        }
     }
 
     /// IGWO: `a = 2 exp(-2 t/T)` (seed 003 eq. 9 as SPEC resolves it).
     pub const fn igwo() -> Self {
-        Self { factor: ConvergenceFactor::IGWO, ..Self::gwo() }
+        Self {
+            factor: ConvergenceFactor::IGWO,
+            ..Self::gwo()
+        }
     }
 
     fn validate(&self) -> Result<(), OptimError> {
@@ -71,7 +86,10 @@ pub struct Wolf<const D: usize> {
 }
 
 impl<const D: usize> Wolf<D> {
-    const EMPTY: Self = Self { position: [0.0; D], cost: f32::INFINITY };
+    const EMPTY: Self = Self {
+        position: [0.0; D],
+        cost: f32::INFINITY,
+    };
 
     fn set(&mut self, x: &[f32], cost: f32) {
         copy(&mut self.position, x);
@@ -93,7 +111,11 @@ pub struct Leaders<const D: usize> {
 impl<const D: usize> Leaders<D> {
     /// No leaders yet.
     pub const fn new() -> Self {
-        Self { alpha: Wolf::EMPTY, beta: Wolf::EMPTY, delta: Wolf::EMPTY }
+        Self {
+            alpha: Wolf::EMPTY,
+            beta: Wolf::EMPTY,
+            delta: Wolf::EMPTY,
+        }
     }
 
     /// Takes a newly evaluated wolf into the archive.
@@ -184,9 +206,17 @@ pub struct Gwo<const N: usize, const D: usize> {
 
 impl<const N: usize, const D: usize> Gwo<N, D> {
     /// Validates and builds; call [`Optimizer::init`] next. Needs at least 3 wolves.
-    pub fn new(settings: Settings, bounds: &Bounds<D>, params: GwoParams) -> Result<Self, OptimError> {
+    pub fn new(
+        settings: Settings,
+        bounds: &Bounds<D>,
+        params: GwoParams,
+    ) -> Result<Self, OptimError> {
         params.validate()?;
-        Ok(Self { swarm: Swarm::new(settings, bounds, 3)?, params, leaders: Leaders::new() })
+        Ok(Self {
+            swarm: Swarm::new(settings, bounds, 3)?,
+            params,
+            leaders: Leaders::new(),
+        })
     }
 
     /// The current leaders.
@@ -196,14 +226,23 @@ impl<const N: usize, const D: usize> Gwo<N, D> {
 
     fn absorb_population(&mut self) {
         for i in 0..self.swarm.n() {
-            self.leaders.offer(self.swarm.pop.position(i), self.swarm.pop.cost(i), self.params.leaders);
+            self.leaders.offer(
+                self.swarm.pop.position(i),
+                self.swarm.pop.cost(i),
+                self.params.leaders,
+            );
         }
     }
 }
 
 impl<const N: usize, const D: usize> Optimizer for Gwo<N, D> {
-    fn init<O: Objective + ?Sized>(&mut self, objective: &mut O, initial: Option<&[&[f32]]>) -> Result<(), OptimError> {
-        self.swarm.initialise(objective, self.params.init, initial)?;
+    fn init<O: Objective + ?Sized>(
+        &mut self,
+        objective: &mut O,
+        initial: Option<&[&[f32]]>,
+    ) -> Result<(), OptimError> {
+        self.swarm
+            .initialise(objective, self.params.init, initial)?;
         self.leaders = Leaders::from_population(&self.swarm.pop);
         if self.params.leaders == LeaderUpdate::Original {
             self.leaders = Leaders::new();
@@ -216,6 +255,22 @@ impl<const N: usize, const D: usize> Optimizer for Gwo<N, D> {
         let t = self.swarm.begin_step()?;
         let a = self.params.factor.value(t, self.swarm.settings.iterations);
         let mut row = [0.0f32; D];
+        if self.params.greedy {
+            // Leaders stay fixed during the pass, as in the plain variant.
+            let leaders = self.leaders;
+            let dim = self.swarm.dim();
+            for i in 0..self.swarm.n() {
+                let sw = &mut self.swarm;
+                hunt(sw.pop.position(i), &leaders, a, &mut sw.rng, &mut row);
+                let cand = row.get_mut(..dim).unwrap_or(&mut []);
+                let cost = sw.clamp_and_evaluate(objective, cand);
+                if cost < sw.pop.cost(i) {
+                    sw.pop.replace(i, cand, cost);
+                }
+                self.leaders.offer(cand, cost, self.params.leaders);
+            }
+            return Ok(());
+        }
         for i in 0..self.swarm.n() {
             let sw = &mut self.swarm;
             hunt(sw.pop.position(i), &self.leaders, a, &mut sw.rng, &mut row);
@@ -226,7 +281,8 @@ impl<const N: usize, const D: usize> Optimizer for Gwo<N, D> {
             sw.bounds.clamp(sw.pop.position_mut(i));
             let cost = sw.tracker.evaluate(objective, sw.pop.position(i));
             sw.pop.set_cost(i, cost);
-            self.leaders.offer(sw.pop.position(i), cost, self.params.leaders);
+            self.leaders
+                .offer(sw.pop.position(i), cost, self.params.leaders);
         }
         Ok(())
     }
@@ -246,11 +302,17 @@ mod tests {
             l.offer(&[x], c, LeaderUpdate::Cascade);
         }
         // Each new alpha pushed the old ones down.
-        assert_eq!((l.alpha.position[0], l.beta.position[0], l.delta.position[0]), (3.0, 2.0, 1.0));
+        assert_eq!(
+            (l.alpha.position[0], l.beta.position[0], l.delta.position[0]),
+            (3.0, 2.0, 1.0)
+        );
         assert_eq!((l.alpha.cost, l.beta.cost, l.delta.cost), (3.0, 4.0, 5.0));
         // A new beta demotes beta to delta.
         l.offer(&[9.0], 3.5, LeaderUpdate::Cascade);
-        assert_eq!((l.alpha.position[0], l.beta.position[0], l.delta.position[0]), (3.0, 9.0, 2.0));
+        assert_eq!(
+            (l.alpha.position[0], l.beta.position[0], l.delta.position[0]),
+            (3.0, 9.0, 2.0)
+        );
         // A worse wolf only enters as delta if it beats delta.
         l.offer(&[7.0], 3.9, LeaderUpdate::Cascade);
         assert_eq!(l.delta.position[0], 7.0);
@@ -277,14 +339,21 @@ mod tests {
             p.replace(i, &[i as f32], *c);
         }
         let l = Leaders::from_population(&p);
-        assert_eq!((l.alpha.position[0], l.beta.position[0], l.delta.position[0]), (3.0, 1.0, 4.0));
+        assert_eq!(
+            (l.alpha.position[0], l.beta.position[0], l.delta.position[0]),
+            (3.0, 1.0, 4.0)
+        );
     }
 
     #[test]
     fn alpha_is_the_best_so_far() {
         let b = Bounds::<6>::uniform(6, -10.0, 10.0).unwrap();
         for params in [GwoParams::gwo(), GwoParams::tgwo(), GwoParams::igwo()] {
-            let s = Settings { population: 12, iterations: 50, seed: 4 };
+            let s = Settings {
+                population: 12,
+                iterations: 50,
+                seed: 4,
+            };
             let mut g = Gwo::<12, 6>::new(s, &b, params).unwrap();
             let mut obj = |x: &[f32]| x.iter().map(|v| (v - 2.0) * (v - 2.0)).sum::<f32>();
             let r = g.run(&mut obj, None, &Stop::default(), &mut []).unwrap();
@@ -293,5 +362,29 @@ mod tests {
             assert!(g.leaders().beta.cost <= g.leaders().delta.cost);
             assert_eq!(r.evaluations, 12 * 51);
         }
+    }
+
+    #[test]
+    fn greedy_variant_never_loses_a_wolf() {
+        let b = Bounds::<6>::uniform(6, -100.0, 100.0).unwrap();
+        let s = Settings {
+            population: 12,
+            iterations: 100,
+            seed: 4,
+        };
+        let mut obj = |x: &[f32]| x.iter().map(|v| (v - 37.5) * (v - 37.5)).sum::<f32>();
+        let mut g = Gwo::<12, 6>::new(
+            s,
+            &b,
+            GwoParams {
+                greedy: true,
+                ..GwoParams::gwo()
+            },
+        )
+        .unwrap();
+        let mut hist = [0.0f32; 100];
+        let r = g.run(&mut obj, None, &Stop::default(), &mut hist).unwrap();
+        assert_eq!(r.evaluations, 12 * 101);
+        assert_eq!(g.leaders().alpha.cost, r.best_cost);
     }
 }

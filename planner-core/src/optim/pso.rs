@@ -10,8 +10,8 @@
 //! Evaluations: `N` at initialisation, then `N` per iteration.
 
 use super::{
-    Bounds, Initialisation, Objective, OptimError, Optimizer, Population, Settings, Swarm, check_param,
-    swarm_accessors,
+    Bounds, Initialisation, Objective, OptimError, Optimizer, Population, Settings, Swarm,
+    check_param, swarm_accessors,
 };
 
 /// Options of PSO.
@@ -35,12 +35,23 @@ pub struct PsoParams {
 impl PsoParams {
     /// Seed 003: `w = 0.9`, `c1 = c2 = 2`.
     pub const fn seed_003() -> Self {
-        Self { init: Initialisation::Uniform, w: 0.9, w_end: 0.9, c1: 2.0, c2: 2.0, vmax_fraction: 0.2 }
+        Self {
+            init: Initialisation::Uniform,
+            w: 0.9,
+            w_end: 0.9,
+            c1: 2.0,
+            c2: 2.0,
+            vmax_fraction: 0.2,
+        }
     }
 
     /// Seed 001: `w = 0.7`, `c1 = c2 = 2`.
     pub const fn seed_001() -> Self {
-        Self { w: 0.7, w_end: 0.7, ..Self::seed_003() }
+        Self {
+            w: 0.7,
+            w_end: 0.7,
+            ..Self::seed_003()
+        }
     }
 
     fn validate(&self) -> Result<(), OptimError> {
@@ -70,17 +81,31 @@ pub struct Pso<const N: usize, const D: usize> {
 
 impl<const N: usize, const D: usize> Pso<N, D> {
     /// Validates and builds; call [`Optimizer::init`] next.
-    pub fn new(settings: Settings, bounds: &Bounds<D>, params: PsoParams) -> Result<Self, OptimError> {
+    pub fn new(
+        settings: Settings,
+        bounds: &Bounds<D>,
+        params: PsoParams,
+    ) -> Result<Self, OptimError> {
         params.validate()?;
         let swarm = Swarm::new(settings, bounds, 1)?;
         let personal = Population::new(settings.population, bounds.dim());
-        Ok(Self { swarm, params, velocity: [[0.0; D]; N], personal })
+        Ok(Self {
+            swarm,
+            params,
+            velocity: [[0.0; D]; N],
+            personal,
+        })
     }
 }
 
 impl<const N: usize, const D: usize> Optimizer for Pso<N, D> {
-    fn init<O: Objective + ?Sized>(&mut self, objective: &mut O, initial: Option<&[&[f32]]>) -> Result<(), OptimError> {
-        self.swarm.initialise(objective, self.params.init, initial)?;
+    fn init<O: Objective + ?Sized>(
+        &mut self,
+        objective: &mut O,
+        initial: Option<&[&[f32]]>,
+    ) -> Result<(), OptimError> {
+        self.swarm
+            .initialise(objective, self.params.init, initial)?;
         self.velocity = [[0.0; D]; N];
         self.personal = self.swarm.pop.clone();
         Ok(())
@@ -97,10 +122,18 @@ impl<const N: usize, const D: usize> Optimizer for Pso<N, D> {
             let x = sw.pop.position(i);
             let pb = self.personal.position(i);
             let g = sw.tracker.best();
-            for (d, ((((v, xn), xd), pd), gd)) in vel.iter_mut().zip(x_new.iter_mut()).zip(x).zip(pb).zip(g).enumerate() {
+            for (d, ((((v, xn), xd), pd), gd)) in vel
+                .iter_mut()
+                .zip(x_new.iter_mut())
+                .zip(x)
+                .zip(pb)
+                .zip(g)
+                .enumerate()
+            {
                 let r1 = sw.rng.unit();
                 let r2 = sw.rng.unit();
-                let width = sw.bounds.upper().get(d).copied().unwrap_or(0.0) - sw.bounds.lower().get(d).copied().unwrap_or(0.0);
+                let width = sw.bounds.upper().get(d).copied().unwrap_or(0.0)
+                    - sw.bounds.lower().get(d).copied().unwrap_or(0.0);
                 let vmax = p.vmax_fraction * width;
                 let nv = w * *v + p.c1 * r1 * (pd - xd) + p.c2 * r2 * (gd - xd);
                 *v = nv.max(-vmax).min(vmax);
@@ -128,7 +161,11 @@ mod tests {
     #[test]
     fn pso_converges_on_a_bowl_and_counts() {
         let b = Bounds::<4>::uniform(4, -10.0, 10.0).unwrap();
-        let s = Settings { population: 20, iterations: 200, seed: 1 };
+        let s = Settings {
+            population: 20,
+            iterations: 200,
+            seed: 1,
+        };
         let mut pso = Pso::<20, 4>::new(s, &b, PsoParams::seed_001()).unwrap();
         let mut obj = |x: &[f32]| x.iter().map(|v| (v - 3.0) * (v - 3.0)).sum::<f32>();
         let r = pso.run(&mut obj, None, &Stop::default(), &mut []).unwrap();
@@ -139,7 +176,11 @@ mod tests {
     #[test]
     fn params_validated() {
         let b = Bounds::<2>::uniform(2, -1.0, 1.0).unwrap();
-        let s = Settings { population: 5, iterations: 5, seed: 0 };
+        let s = Settings {
+            population: 5,
+            iterations: 5,
+            seed: 0,
+        };
         let mut p = PsoParams::seed_003();
         p.c1 = f32::NAN;
         assert!(Pso::<5, 2>::new(s, &b, p).is_err());

@@ -13,8 +13,8 @@
 //!   repeat until `0 < s < 1` (about 1.27 attempts on average); the second normal of the pair is
 //!   discarded so that each call's draw count depends only on its own attempts;
 //! - [`Random::cauchy`]: `tan(pi (u - 1/2))` with `u` from `open_unit`;
-//! - [`Random::levy`]: Mantegna's algorithm, `beta = 1.5`: `u ~ N(0, sigma^2)` then
-//!   `v ~ N(0, 1)`, `step = u / |v|^(1/beta)`.
+//! - [`Random::levy`]: Mantegna's algorithm, `beta = 1.5`: `(u, v)` one polar pair,
+//!   `u` scaled by `sigma`, `step = u / |v|^(1/beta)` (computed as `cbrt(v^2)`).
 //!
 //! # Order of draws per algorithm (one generator per optimizer, reset by `init`)
 //! - **Initialisation**: uniform: member-major, dimension-minor, one `unit` per coordinate.
@@ -25,12 +25,14 @@
 //!   mutation draws instead of all of these); else `r`, then `J` for the three moves that use it;
 //!   a failed dive `Y` then draws per dimension `S_j` and one Levy step. After all hawks
 //!   (TCLHHO): `P`, then per dimension a Cauchy draw (`P >= 0.5`) or `K1, K2` (opposition).
-//! - **GWO / TGWO / IGWO**, per wolf, per dimension, per leader (alpha, beta, delta): `r1, r2`.
+//! - **GWO / TGWO / IGWO**, per wolf, per dimension, per leader (alpha, beta, delta): `r1, r2`
+//!   (the same with or without the greedy option).
 //! - **SSA**: `R2`; per producer in rank order one `alpha` (`R2 < ST`) or one normal `Q`;
 //!   per scrounger in rank order: worse half one normal `Q`, better half one sign per
 //!   dimension; scouts: partial Fisher-Yates (one `index` per scout), then per scout either one
 //!   normal per dimension or one `unit` for `K`.
-//! - **SSA-GWO**: the GWO draws, then the SSA draws, each iteration.
+//! - **SSA-GWO**: the GWO draws, then the SSA draws, each iteration; the PSO-style variant
+//!   ([`crate::optim::ssa_gwo::SsaGwoPso`]) draws the PSO draws instead of the SSA ones.
 //! - **PSO**: per particle, per dimension: `r1, r2`.
 //! - **GA**: per offspring pair: two tournaments (two `index` each), the crossover test, the
 //!   blend weight, then per gene of each child the mutation test and, if mutated, one normal.
@@ -54,7 +56,9 @@ pub struct Random {
 impl Random {
     /// A generator fully determined by `seed`.
     pub fn new(seed: u64) -> Self {
-        Self { rng: Xoshiro128PlusPlus::seed_from_u64(seed) }
+        Self {
+            rng: Xoshiro128PlusPlus::seed_from_u64(seed),
+        }
     }
 
     /// The next raw 32-bit word.
@@ -88,14 +92,20 @@ impl Random {
         ((u64::from(self.next_u32()) * n as u64) >> 32) as usize
     }
 
-    /// Standard normal, Marsaglia's polar method.
+    /// Standard normal, Marsaglia's polar method (the pair's second value is discarded).
     pub fn normal(&mut self) -> f32 {
+        self.normal_pair().0
+    }
+
+    /// Two independent standard normals from one accepted Marsaglia polar attempt.
+    pub fn normal_pair(&mut self) -> (f32, f32) {
         loop {
             let u = 2.0 * self.unit() - 1.0;
             let v = 2.0 * self.unit() - 1.0;
             let s = u * u + v * v;
             if s > 0.0 && s < 1.0 {
-                return u * super::sqrtf(-2.0 * libm::logf(s) / s);
+                let m = super::sqrtf(-2.0 * libm::logf(s) / s);
+                return (u * m, v * m);
             }
         }
     }
@@ -107,11 +117,12 @@ impl Random {
 
     /// One Mantegna Levy step with `beta = 1.5`, unscaled (HHO multiplies it by 0.01).
     pub fn levy(&mut self) -> f32 {
-        let u = self.normal() * LEVY_SIGMA_1_5;
-        let v = self.normal();
-        // |v|^(1/1.5); a zero `v` (probability ~0) would give an infinite step, which the box
-        // clamp absorbs, but keep it finite anyway.
-        let denom = libm::powf(libm::fabsf(v), 1.0 / LEVY_BETA).max(f32::MIN_POSITIVE);
+        // Both normals from one polar attempt: half the logarithms of two separate draws.
+        let (u, v) = self.normal_pair();
+        let u = u * LEVY_SIGMA_1_5;
+        // |v|^(1/1.5) = cbrt(v^2): libm's powf costs several times cbrtf. A zero `v`
+        // (probability ~0) would give an infinite step; keep it finite anyway.
+        let denom = libm::cbrtf(v * v).max(f32::MIN_POSITIVE);
         u / denom
     }
 }
@@ -175,10 +186,9 @@ mod tests {
     fn levy_steps_have_the_mantegna_scale() {
         // sigma from Mantegna's formula, in f64 with libm's gamma.
         let b = 1.5f64;
-        let sigma = (libm::tgamma(1.0 + b) * libm::sin(core::f64::consts::PI * b / 2.0)
-            / (libm::tgamma((1.0 + b) / 2.0) * b * libm::pow(2.0, (b - 1.0) / 2.0)))
-        ;
-        let sigma = libm::pow(sigma, 1.0 / b);
+        let ratio = libm::tgamma(1.0 + b) * libm::sin(core::f64::consts::PI * b / 2.0)
+            / (libm::tgamma((1.0 + b) / 2.0) * b * libm::pow(2.0, (b - 1.0) / 2.0));
+        let sigma = libm::pow(ratio, 1.0 / b);
         assert!((sigma - f64::from(LEVY_SIGMA_1_5)).abs() < 1e-6, "{sigma}");
         // The step u/|v|^(2/3) is symmetric with median |step| equal to sigma times the median
         // of |N1|/|N2|^(2/3); that median is a fixed number (0.905 by a 2*10^6-sample f64
@@ -191,6 +201,9 @@ mod tests {
         v.sort_unstable_by(f32::total_cmp);
         let median = f64::from(v[10000]);
         let expected = sigma * 0.905;
-        assert!((median / expected - 1.0).abs() < 0.03, "{median} vs {expected}");
+        assert!(
+            (median / expected - 1.0).abs() < 0.03,
+            "{median} vs {expected}"
+        );
     }
 }

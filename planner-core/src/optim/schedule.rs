@@ -12,7 +12,11 @@ pub trait Schedule {
 }
 
 fn fraction(t: u32, horizon: u32) -> f32 {
-    if horizon == 0 { 1.0 } else { t as f32 / horizon as f32 }
+    if horizon == 0 {
+        1.0
+    } else {
+        t as f32 / horizon as f32
+    }
 }
 
 /// The energy factor `E1` that scales HHO's escape energy `E = E0 * E1`.
@@ -37,7 +41,9 @@ impl EscapeEnergy {
 
     pub(crate) fn validate(&self) -> Result<(), OptimError> {
         match self {
-            Self::Exponential { a } if !(a.is_finite() && *a > 0.0) => Err(OptimError::InvalidParameter("energy.a")),
+            Self::Exponential { a } if !(a.is_finite() && *a > 0.0) => {
+                Err(OptimError::InvalidParameter("energy.a"))
+            }
             _ => Ok(()),
         }
     }
@@ -81,7 +87,10 @@ pub enum ConvergenceFactor {
 
 impl ConvergenceFactor {
     /// IGWO's defaults: `a_init = 2`, `lambda = 2`.
-    pub const IGWO: Self = Self::Exponential { a_init: 2.0, lambda: 2.0 };
+    pub const IGWO: Self = Self::Exponential {
+        a_init: 2.0,
+        lambda: 2.0,
+    };
 
     pub(crate) fn validate(&self) -> Result<(), OptimError> {
         match self {
@@ -122,9 +131,17 @@ mod tests {
         let t_max = 500;
         assert_eq!(e.value(0, t_max), 2.0);
         // 2 (1 - 0.5^1.2) = 1.129_449
-        assert!((e.value(250, t_max) - 1.129_449).abs() < 1e-5, "{}", e.value(250, t_max));
+        assert!(
+            (e.value(250, t_max) - 1.129_449).abs() < 1e-5,
+            "{}",
+            e.value(250, t_max)
+        );
         // 2 (1 - (499/500)^1.2) = 0.004_797
-        assert!((e.value(499, t_max) - 0.004_797).abs() < 1e-5, "{}", e.value(499, t_max));
+        assert!(
+            (e.value(499, t_max) - 0.004_797).abs() < 1e-5,
+            "{}",
+            e.value(499, t_max)
+        );
         // The exponent bends E1 above the linear schedule: more exploration mid-run; the
         // pseudocode's 0.5 bends it below (the opposite shape).
         assert!(e.value(250, t_max) > EscapeEnergy::Linear.value(250, t_max));
@@ -143,7 +160,10 @@ mod tests {
         let a = ConvergenceFactor::IGWO;
         assert_eq!(a.value(0, 500), 2.0);
         let end = a.value(500, 500);
-        assert!((end - 2.0 * libm::expf(-2.0)).abs() < 1e-6 && (end - 0.27).abs() < 0.01, "{end}");
+        assert!(
+            (end - 2.0 * libm::expf(-2.0)).abs() < 1e-6 && (end - 0.27).abs() < 0.01,
+            "{end}"
+        );
         let mut prev = f32::INFINITY;
         for t in 0..=500 {
             let v = a.value(t, 500);
@@ -151,7 +171,10 @@ mod tests {
             prev = v;
         }
         // The printed formula rises from 1 to 1.86 instead.
-        let lit = ConvergenceFactor::ExponentialLiteral { a_init: 2.0, lambda: 2.0 };
+        let lit = ConvergenceFactor::ExponentialLiteral {
+            a_init: 2.0,
+            lambda: 2.0,
+        };
         assert_eq!(lit.value(0, 500), 1.0);
         assert!((lit.value(500, 500) - 1.8647).abs() < 1e-3);
     }
@@ -181,9 +204,20 @@ mod tests {
 
     #[test]
     fn validation() {
-        assert!(EscapeEnergy::Exponential { a: f32::NAN }.validate().is_err());
+        assert!(
+            EscapeEnergy::Exponential { a: f32::NAN }
+                .validate()
+                .is_err()
+        );
         assert!(EscapeEnergy::Exponential { a: 0.0 }.validate().is_err());
-        assert!(ConvergenceFactor::Exponential { a_init: 2.0, lambda: f32::NAN }.validate().is_err());
+        assert!(
+            ConvergenceFactor::Exponential {
+                a_init: 2.0,
+                lambda: f32::NAN
+            }
+            .validate()
+            .is_err()
+        );
         assert!(ConvergenceFactor::IGWO.validate().is_ok());
     }
 }

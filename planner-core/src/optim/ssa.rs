@@ -20,8 +20,8 @@
 
 use super::random::Random;
 use super::{
-    Bounds, Initialisation, Objective, OptimError, Optimizer, Population, Settings, Swarm, Tracker, check_param,
-    copy, swarm_accessors,
+    Bounds, Initialisation, Objective, OptimError, Optimizer, Population, Settings, Swarm, Tracker,
+    check_param, copy, swarm_accessors,
 };
 
 /// How the better scroungers' term `|X - X_p| A+ L` is read.
@@ -64,7 +64,11 @@ impl SsaParams {
 
     /// Seed 001's settings: `ST = 0.6`, `PD = 0.4`, `SD = 0.2`.
     pub const fn seed_001() -> Self {
-        Self { safety_threshold: 0.6, producers: 0.4, ..Self::ssa() }
+        Self {
+            safety_threshold: 0.6,
+            producers: 0.4,
+            ..Self::ssa()
+        }
     }
 
     pub(crate) fn validate(&self) -> Result<(), OptimError> {
@@ -213,21 +217,40 @@ pub struct Ssa<const N: usize, const D: usize> {
 
 impl<const N: usize, const D: usize> Ssa<N, D> {
     /// Validates and builds; call [`Optimizer::init`] next. Needs at least 2 sparrows.
-    pub fn new(settings: Settings, bounds: &Bounds<D>, params: SsaParams) -> Result<Self, OptimError> {
+    pub fn new(
+        settings: Settings,
+        bounds: &Bounds<D>,
+        params: SsaParams,
+    ) -> Result<Self, OptimError> {
         params.validate()?;
-        Ok(Self { swarm: Swarm::new(settings, bounds, 2)?, params })
+        Ok(Self {
+            swarm: Swarm::new(settings, bounds, 2)?,
+            params,
+        })
     }
 }
 
 impl<const N: usize, const D: usize> Optimizer for Ssa<N, D> {
-    fn init<O: Objective + ?Sized>(&mut self, objective: &mut O, initial: Option<&[&[f32]]>) -> Result<(), OptimError> {
+    fn init<O: Objective + ?Sized>(
+        &mut self,
+        objective: &mut O,
+        initial: Option<&[&[f32]]>,
+    ) -> Result<(), OptimError> {
         self.swarm.initialise(objective, self.params.init, initial)
     }
 
     fn step<O: Objective + ?Sized>(&mut self, objective: &mut O) -> Result<(), OptimError> {
         self.swarm.begin_step()?;
         let sw = &mut self.swarm;
-        sparrow_step(&mut sw.pop, &sw.bounds, &mut sw.rng, &mut sw.tracker, objective, &self.params, sw.settings.iterations);
+        sparrow_step(
+            &mut sw.pop,
+            &sw.bounds,
+            &mut sw.rng,
+            &mut sw.tracker,
+            objective,
+            &self.params,
+            sw.settings.iterations,
+        );
         Ok(())
     }
 
@@ -242,7 +265,11 @@ mod tests {
     #[test]
     fn counts_and_determinism() {
         let b = Bounds::<5>::uniform(5, -10.0, 10.0).unwrap();
-        let s = Settings { population: 20, iterations: 30, seed: 2 };
+        let s = Settings {
+            population: 20,
+            iterations: 30,
+            seed: 2,
+        };
         let mut a = Ssa::<20, 5>::new(s, &b, SsaParams::ssa()).unwrap();
         let mut obj = |x: &[f32]| x.iter().map(|v| (v - 3.0) * (v - 3.0)).sum::<f32>();
         let r1 = a.run(&mut obj, None, &Stop::default(), &mut []).unwrap();
@@ -256,11 +283,22 @@ mod tests {
     #[test]
     fn params_validated() {
         let b = Bounds::<2>::uniform(2, -1.0, 1.0).unwrap();
-        let s = Settings { population: 5, iterations: 5, seed: 0 };
-        for f in [|p: &mut SsaParams| p.safety_threshold = f32::NAN, |p: &mut SsaParams| p.producers = 1.5, |p: &mut SsaParams| p.scouts = -0.1] {
+        let s = Settings {
+            population: 5,
+            iterations: 5,
+            seed: 0,
+        };
+        for f in [
+            |p: &mut SsaParams| p.safety_threshold = f32::NAN,
+            |p: &mut SsaParams| p.producers = 1.5,
+            |p: &mut SsaParams| p.scouts = -0.1,
+        ] {
             let mut p = SsaParams::ssa();
             f(&mut p);
-            assert!(matches!(Ssa::<5, 2>::new(s, &b, p), Err(OptimError::InvalidParameter(_))));
+            assert!(matches!(
+                Ssa::<5, 2>::new(s, &b, p),
+                Err(OptimError::InvalidParameter(_))
+            ));
         }
     }
 }

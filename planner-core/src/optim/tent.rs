@@ -26,7 +26,10 @@ pub struct TentMap {
 impl TentMap {
     /// Starts at a uniform `z_1` in `(0, 1)`; `u` must be in `(0, 1)` (callers validate it).
     pub fn new(rng: &mut Random, u: f32) -> Self {
-        Self { z: rng.open_unit(), u }
+        Self {
+            z: rng.open_unit(),
+            u,
+        }
     }
 
     /// The current value, in `(0, 1)`.
@@ -37,7 +40,11 @@ impl TentMap {
     /// Advances one step and returns the new value, in `(0, 1)`.
     pub fn next(&mut self, rng: &mut Random) -> f32 {
         let z = self.z;
-        let mut next = if z <= self.u { z / self.u } else { (1.0 - z) / (1.0 - self.u) };
+        let mut next = if z <= self.u {
+            z / self.u
+        } else {
+            (1.0 - z) / (1.0 - self.u)
+        };
         next += TENT_PERTURBATION * rng.unit();
         if next >= 1.0 {
             next -= 1.0;
