@@ -114,13 +114,17 @@ pub fn line_of_sight(grid: GridRef<'_>, a: Cell, b: Cell) -> bool {
     let (dx, dy) = (b.x as i64 - a.x as i64, b.y as i64 - a.y as i64);
     // Walk the strips across the segment's short side; each strip is one run of cells.
     if dy.abs() > dx.abs() {
-        exact_strips((a.x as i64, a.y as i64), (b.x as i64, b.y as i64), |c, lo, hi| {
-            grid.column_run_blocked(c as isize, lo as isize, hi as isize)
-        })
+        exact_strips(
+            (a.x as i64, a.y as i64),
+            (b.x as i64, b.y as i64),
+            |c, lo, hi| grid.column_run_blocked(c as isize, lo as isize, hi as isize),
+        )
     } else {
-        exact_strips((a.y as i64, a.x as i64), (b.y as i64, b.x as i64), |r, lo, hi| {
-            grid.row_run_blocked(r as isize, lo as isize, hi as isize)
-        })
+        exact_strips(
+            (a.y as i64, a.x as i64),
+            (b.y as i64, b.x as i64),
+            |r, lo, hi| grid.row_run_blocked(r as isize, lo as isize, hi as isize),
+        )
     }
 }
 
@@ -128,7 +132,11 @@ pub fn line_of_sight(grid: GridRef<'_>, a: Cell, b: Cell) -> bool {
 /// spans `u` in `[s - 1/2, s + 1/2]`; the cells it touches are the `v` run whose closed
 /// intervals `[p - 1/2, p + 1/2]` meet the segment's `v` range over the strip (corners
 /// count). `blocked(s, lo, hi)` tests one run. Integer arithmetic in units of `1/(2 du)`.
-fn exact_strips(a: (i64, i64), b: (i64, i64), mut blocked: impl FnMut(i64, i64, i64) -> bool) -> bool {
+fn exact_strips(
+    a: (i64, i64),
+    b: (i64, i64),
+    mut blocked: impl FnMut(i64, i64, i64) -> bool,
+) -> bool {
     let ((u0, v0), (u1, v1)) = if a.0 <= b.0 { (a, b) } else { (b, a) };
     let (du, dv) = (u1 - u0, v1 - v0);
     if du == 0 {
@@ -139,7 +147,11 @@ fn exact_strips(a: (i64, i64), b: (i64, i64), mut blocked: impl FnMut(i64, i64, 
         let right2 = (2 * s + 1).min(2 * u1);
         let h_left = 2 * du * v0 + (left2 - 2 * u0) * dv;
         let h_right = 2 * du * v0 + (right2 - 2 * u0) * dv;
-        let (lo, hi) = if h_left <= h_right { (h_left, h_right) } else { (h_right, h_left) };
+        let (lo, hi) = if h_left <= h_right {
+            (h_left, h_right)
+        } else {
+            (h_right, h_left)
+        };
         if blocked(s, div_ceil(lo - du, 2 * du), div_floor(hi + du, 2 * du)) {
             return false;
         }
@@ -168,14 +180,22 @@ pub fn segment_is_clear(grid: GridRef<'_>, a: Point, b: Point) -> bool {
         return false;
     }
     if (b.y - a.y).abs() > (b.x - a.x).abs() {
-        float_strips((a.x, a.y), (b.x, b.y), |c, lo, hi| grid.column_run_blocked(c, lo, hi))
+        float_strips((a.x, a.y), (b.x, b.y), |c, lo, hi| {
+            grid.column_run_blocked(c, lo, hi)
+        })
     } else {
-        float_strips((a.y, a.x), (b.y, b.x), |r, lo, hi| grid.row_run_blocked(r, lo, hi))
+        float_strips((a.y, a.x), (b.y, b.x), |r, lo, hi| {
+            grid.row_run_blocked(r, lo, hi)
+        })
     }
 }
 
 /// [`exact_strips`] for fractional end points, widened by [`TOUCH_EPS`] on every side.
-fn float_strips(a: (f32, f32), b: (f32, f32), mut blocked: impl FnMut(isize, isize, isize) -> bool) -> bool {
+fn float_strips(
+    a: (f32, f32),
+    b: (f32, f32),
+    mut blocked: impl FnMut(isize, isize, isize) -> bool,
+) -> bool {
     let ((u0, v0), (u1, v1)) = if a.0 <= b.0 { (a, b) } else { (b, a) };
     let (du, dv) = (u1 - u0, v1 - v0);
     let s0 = crate::math::ceil_i(u0 - 0.5 - TOUCH_EPS);

@@ -365,7 +365,9 @@ fn any_set(bits: &[u32], first: usize, last: usize) -> bool {
         return bits.get(w0).is_none_or(|w| w & head & tail != 0);
     }
     match (bits.get(w0), bits.get(w1), bits.get(w0 + 1..w1)) {
-        (Some(a), Some(b), Some(mid)) => a & head != 0 || b & tail != 0 || mid.iter().any(|w| *w != 0),
+        (Some(a), Some(b), Some(mid)) => {
+            a & head != 0 || b & tail != 0 || mid.iter().any(|w| *w != 0)
+        }
         _ => true,
     }
 }

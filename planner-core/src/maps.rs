@@ -9,7 +9,7 @@
 //! Every generated map is checked to admit an x-monotone path under the collision rule (the
 //! column encoding of seed 000 can only represent those), so all planners can be compared.
 
-use crate::geometry::{line_of_sight, Cell};
+use crate::geometry::{Cell, line_of_sight};
 use crate::grid::{Grid, GridRef};
 use rand_core::{Rng, SeedableRng};
 use rand_xoshiro::Xoshiro128PlusPlus;
@@ -61,7 +61,10 @@ pub enum MapGenError {
 /// assert_eq!((map.start.x, map.start.y, map.goal.x, map.goal.y), (0, 0, 39, 39));
 /// # Ok::<(), planner_core::maps::MapGenError>(())
 /// ```
-pub fn seed000<const WORDS: usize>(kind: MapKind, size: usize) -> Result<SeedMap<WORDS>, MapGenError> {
+pub fn seed000<const WORDS: usize>(
+    kind: MapKind,
+    size: usize,
+) -> Result<SeedMap<WORDS>, MapGenError> {
     if size < 6 {
         return Err(MapGenError::BadSize);
     }
@@ -113,7 +116,8 @@ pub fn lab_20x20<const WORDS: usize>() -> Result<SeedMap<WORDS>, MapGenError> {
     let mut grid = Grid::new(20, 20).map_err(|_| MapGenError::BadSize)?;
     for (y, row) in ROWS.iter().enumerate() {
         for (x, &c) in row.iter().enumerate() {
-            grid.set_blocked(x, y, c == b'@').map_err(|_| MapGenError::BadSize)?;
+            grid.set_blocked(x, y, c == b'@')
+                .map_err(|_| MapGenError::BadSize)?;
         }
     }
     Ok(SeedMap {
@@ -139,7 +143,8 @@ fn warehouse_shelves<const WORDS: usize>(size: usize) -> Result<Grid<WORDS>, Map
         for x in margin..size - margin {
             // Pattern: shelf, shelf, aisle, aisle.
             if (x - margin) % 4 < 2 {
-                grid.set_blocked(x, y, true).map_err(|_| MapGenError::BadSize)?;
+                grid.set_blocked(x, y, true)
+                    .map_err(|_| MapGenError::BadSize)?;
             }
         }
     }
@@ -168,7 +173,8 @@ fn sparse<const WORDS: usize>(size: usize, seed: u64) -> Result<Grid<WORDS>, Map
                 if !grid.view().is_blocked(xx as isize, yy as isize) {
                     placed += 1;
                 }
-                grid.set_blocked(xx, yy, true).map_err(|_| MapGenError::BadSize)?;
+                grid.set_blocked(xx, yy, true)
+                    .map_err(|_| MapGenError::BadSize)?;
             }
         }
     }
@@ -189,7 +195,9 @@ pub fn x_monotone_feasible(grid: GridRef<'_>, start: Cell, goal: Cell) -> bool {
     for x in start.x + 1..=goal.x {
         let mut next = [false; 256];
         for (r, slot) in next.iter_mut().enumerate().take(h) {
-            *slot = (0..h).any(|p| reach[p] && line_of_sight(grid, Cell::new(x - 1, p as u16), Cell::new(x, r as u16)));
+            *slot = (0..h).any(|p| {
+                reach[p] && line_of_sight(grid, Cell::new(x - 1, p as u16), Cell::new(x, r as u16))
+            });
         }
         reach = next;
     }
@@ -200,7 +208,7 @@ pub fn x_monotone_feasible(grid: GridRef<'_>, start: Cell, goal: Cell) -> bool {
 mod tests {
     use super::*;
     use crate::grid::words_for;
-    use crate::search::{astar, SearchNode};
+    use crate::search::{SearchNode, astar};
 
     type G = Grid<{ words_for(40, 40) }>;
 
@@ -211,7 +219,10 @@ mod tests {
                 let a = seed000::<{ words_for(40, 40) }>(kind, size).unwrap();
                 let b = seed000::<{ words_for(40, 40) }>(kind, size).unwrap();
                 assert_eq!(a.grid, b.grid);
-                assert!(x_monotone_feasible(a.grid.view(), a.start, a.goal), "{kind:?} {size}");
+                assert!(
+                    x_monotone_feasible(a.grid.view(), a.start, a.goal),
+                    "{kind:?} {size}"
+                );
                 let mut nodes = [SearchNode::EMPTY; 1600];
                 let mut path: crate::path::Path<400> = crate::path::Path::new();
                 astar::plan(a.grid.view(), a.start, a.goal, &mut nodes, &mut path).unwrap();
@@ -231,7 +242,10 @@ mod tests {
 
     #[test]
     fn bad_sizes_are_errors() {
-        assert_eq!(seed000::<{ words_for(40, 40) }>(MapKind::Sparse, 5).unwrap_err(), MapGenError::BadSize);
+        assert_eq!(
+            seed000::<{ words_for(40, 40) }>(MapKind::Sparse, 5).unwrap_err(),
+            MapGenError::BadSize
+        );
         assert!(seed000::<{ words_for(8, 8) }>(MapKind::Warehouse, 40).is_err());
         let _ = G::new(1, 1);
     }

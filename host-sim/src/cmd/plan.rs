@@ -16,10 +16,10 @@ use crate::maps::{HostGrid, load_movingai};
 use anyhow::Context;
 use clap::ValueEnum;
 use planner_core::PlanError;
-use planner_core::geometry::Cell;
-use planner_core::path::{Path, PathView};
 use planner_core::encoding::walk::CornerRule;
+use planner_core::geometry::Cell;
 use planner_core::optim::any::AlgorithmKind;
+use planner_core::path::{Path, PathView};
 use planner_core::planner::aco::AcoParams;
 use planner_core::planner::owned::HostPlanner;
 use planner_core::planner::{EncodingKind, InitKind, PlanParams, PlannerKind};
@@ -171,7 +171,10 @@ impl SwarmArgs {
 fn parse_planner(text: &str) -> Result<PlannerKind, String> {
     text.parse().map_err(|_| {
         let names: Vec<&str> = PlannerKind::ALL.iter().map(|k| k.name()).collect();
-        format!("unknown planner {text:?}; expected one of {}", names.join(", "))
+        format!(
+            "unknown planner {text:?}; expected one of {}",
+            names.join(", ")
+        )
     })
 }
 
@@ -257,9 +260,12 @@ impl PreparedMap {
     /// Inflates `grid` by `radius` and labels its components.
     pub fn new(grid: &HostGrid, radius: f32) -> anyhow::Result<Self> {
         let mut inflated = Box::new(HostGrid::new(1, 1).map_err(anyhow::Error::msg)?);
-        grid.inflate_into(radius, &mut inflated).map_err(anyhow::Error::msg)?;
+        grid.inflate_into(radius, &mut inflated)
+            .map_err(anyhow::Error::msg)?;
         let mut planner = HostPlanner::new();
-        planner.prepare(inflated.view()).map_err(anyhow::Error::msg)?;
+        planner
+            .prepare(inflated.view())
+            .map_err(anyhow::Error::msg)?;
         Ok(PreparedMap {
             grid: inflated,
             planner,
@@ -268,7 +274,14 @@ impl PreparedMap {
     }
 
     /// Plans one query; `history` receives the best cost per iteration (swarm planners).
-    pub fn plan(&mut self, kind: PlannerKind, params: &PlanParams, aco: &AcoParams, query: Query, history: &mut [f32]) -> Outcome {
+    pub fn plan(
+        &mut self,
+        kind: PlannerKind,
+        params: &PlanParams,
+        aco: &AcoParams,
+        query: Query,
+        history: &mut [f32],
+    ) -> Outcome {
         let began = Instant::now();
         let result = self.plan_inner(kind, params, aco, query, history);
         Outcome {
@@ -288,9 +301,17 @@ impl PreparedMap {
         let start = to_cell(query.start).ok_or(PlanError::StartOutsideMap)?;
         let goal = to_cell(query.goal).ok_or(PlanError::GoalOutsideMap)?;
         let out: &mut PathView = &mut *self.path;
-        let outcome = self
-            .planner
-            .plan(self.grid.view(), kind, start, goal, params, aco, out, history, &mut || false)?;
+        let outcome = self.planner.plan(
+            self.grid.view(),
+            kind,
+            start,
+            goal,
+            params,
+            aco,
+            out,
+            history,
+            &mut || false,
+        )?;
         Ok(PlanSummary {
             path: out.iter().map(|p| [p.x, p.y]).collect(),
             outcome,
@@ -332,7 +353,12 @@ pub fn outcome_json(kind: PlannerKind, seed: u64, query: Query, outcome: &Outcom
         Ok(s) => {
             map.insert(
                 "path".into(),
-                Value::Array(s.path.iter().map(|p| json!([coord(p[0]), coord(p[1])])).collect()),
+                Value::Array(
+                    s.path
+                        .iter()
+                        .map(|p| json!([coord(p[0]), coord(p[1])]))
+                        .collect(),
+                ),
             );
             map.insert("length".into(), num(s.outcome.length));
             map.insert("time_us".into(), micros(outcome.time_us));
@@ -433,9 +459,16 @@ mod tests {
         for kind in PlannerKind::ALL {
             let r = map.plan(kind, &p, &a, q((-1, 0), (0, 0)), &mut []).result;
             assert!(matches!(r, Err(PlanError::StartOutsideMap)), "{kind:?}");
-            let r = map.plan(kind, &p, &a, q((0, 0), (0, 70000)), &mut []).result;
+            let r = map
+                .plan(kind, &p, &a, q((0, 0), (0, 70000)), &mut [])
+                .result;
             assert!(matches!(r, Err(PlanError::GoalOutsideMap)), "{kind:?}");
-            assert!(map.plan(kind, &p, &a, q((0, 0), (2, 1)), &mut []).result.is_ok(), "{kind:?}");
+            assert!(
+                map.plan(kind, &p, &a, q((0, 0), (2, 1)), &mut [])
+                    .result
+                    .is_ok(),
+                "{kind:?}"
+            );
         }
     }
 }

@@ -8,9 +8,9 @@
 //! one adds [`infeasible_penalty`](super::infeasible_penalty). Only x-monotone paths can be
 //! represented, so this is a reproduction mode, not the general planner.
 
-use super::{infeasible_penalty, Encoding};
+use super::{Encoding, infeasible_penalty};
 use crate::error::PlanError;
-use crate::geometry::{line_of_sight, Cell};
+use crate::geometry::{Cell, line_of_sight};
 use crate::grid::GridRef;
 use crate::path::PathView;
 
@@ -45,7 +45,11 @@ impl<'g> ColumnEncoding<'g> {
     }
 
     /// Visits the path's vertices; returns (length, blocked segments).
-    fn walk(&self, x: &[f32], mut visit: impl FnMut(Cell) -> Result<(), PlanError>) -> Result<(f32, u32), PlanError> {
+    fn walk(
+        &self,
+        x: &[f32],
+        mut visit: impl FnMut(Cell) -> Result<(), PlanError>,
+    ) -> Result<(f32, u32), PlanError> {
         let mut length = 0.0;
         let mut blocked = 0;
         let mut prev = self.start;
@@ -92,7 +96,10 @@ impl Encoding for ColumnEncoding<'_> {
 
     fn decode(&mut self, x: &[f32], out: &mut PathView) -> Result<(), PlanError> {
         out.clear();
-        let (_, blocked) = self.walk(x, |c| out.push(c.center()).map_err(|_| PlanError::CapacityExceeded))?;
+        let (_, blocked) = self.walk(x, |c| {
+            out.push(c.center())
+                .map_err(|_| PlanError::CapacityExceeded)
+        })?;
         if blocked > 0 {
             return Err(PlanError::BudgetExhausted);
         }
@@ -103,8 +110,8 @@ impl Encoding for ColumnEncoding<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::grid::{words_for, Grid};
-    use crate::path::{length, validate, Path};
+    use crate::grid::{Grid, words_for};
+    use crate::path::{Path, length, validate};
 
     #[test]
     fn reproduces_the_papers_10x10_length() {
@@ -121,7 +128,10 @@ mod tests {
         let mut p: Path<32> = Path::new();
         enc.decode(&paper, &mut p).unwrap();
         assert!((length(&p) - paper_len).abs() < 1e-4);
-        assert_eq!(validate(g.view(), &p, Cell::new(0, 0), Cell::new(9, 9)), Ok(()));
+        assert_eq!(
+            validate(g.view(), &p, Cell::new(0, 0), Cell::new(9, 9)),
+            Ok(())
+        );
     }
 
     #[test]
@@ -131,7 +141,10 @@ mod tests {
         let through = [0.0, 2.0, 3.0, 3.0]; // (0,0)->(1,2) touches (1,1)? it passes x=0.5 at y=1.
         assert!(enc.cost(&through) > infeasible_penalty(g.view()));
         let mut p: Path<16> = Path::new();
-        assert_eq!(enc.decode(&through, &mut p), Err(PlanError::BudgetExhausted));
+        assert_eq!(
+            enc.decode(&through, &mut p),
+            Err(PlanError::BudgetExhausted)
+        );
         assert!(enc.cost(&[0.0, 0.0, 0.0, 3.0]) < 10.0);
         assert!(enc.cost(&[f32::NAN, 0.0, 0.0, 3.0]).is_finite());
     }

@@ -19,7 +19,7 @@
 
 use super::Encoding;
 use crate::error::PlanError;
-use crate::geometry::{segment_is_clear, Point};
+use crate::geometry::{Point, segment_is_clear};
 use crate::grid::GridRef;
 use crate::path::PathView;
 
@@ -67,7 +67,9 @@ impl<'a> CorridorEncoding<'a> {
         max_vars: usize,
         stations: &'a mut [Station],
     ) -> Result<Self, PlanError> {
-        if !(spacing.is_finite() && spacing > 0.0 && radius.is_finite() && radius > 0.0) || guide.len() < 2 {
+        if !(spacing.is_finite() && spacing > 0.0 && radius.is_finite() && radius > 0.0)
+            || guide.len() < 2
+        {
             return Err(PlanError::InvalidParameters);
         }
         let last = guide.len() - 1;
@@ -95,19 +97,31 @@ impl<'a> CorridorEncoding<'a> {
         candidates(&mut |_| count += 1);
         let k = count.min(max_vars).min(stations.len().saturating_sub(2));
         // Thin evenly when there are more candidates than variables.
-        stations[0] = Station { index: 0, point: guide[0], ..Station::default() };
+        stations[0] = Station {
+            index: 0,
+            point: guide[0],
+            ..Station::default()
+        };
         let mut seen = 0usize;
         let mut kept = 0usize;
         candidates(&mut |index| {
             // Exactly k of the count candidates, evenly: keep the ones where floor(seen k / count) steps.
             if kept < k && (seen + 1) * k / count > seen * k / count {
                 kept += 1;
-                stations[kept] = Station { index: index as u32, point: guide[index], ..Station::default() };
+                stations[kept] = Station {
+                    index: index as u32,
+                    point: guide[index],
+                    ..Station::default()
+                };
             }
             seen += 1;
         });
         let k = kept;
-        stations[k + 1] = Station { index: last as u32, point: guide[last], ..Station::default() };
+        stations[k + 1] = Station {
+            index: last as u32,
+            point: guide[last],
+            ..Station::default()
+        };
         for s in 0..k + 2 {
             let i = stations[s].index as usize;
             if s + 1 < k + 2 {
@@ -120,7 +134,11 @@ impl<'a> CorridorEncoding<'a> {
             let (a, b) = (guide[i - 1], guide[i + 1]);
             let (dx, dy) = (b.x - a.x, b.y - a.y);
             let len = crate::math::sqrt(dx * dx + dy * dy);
-            let normal = if len > 0.0 { (-dy / len, dx / len) } else { (0.0, 1.0) };
+            let normal = if len > 0.0 {
+                (-dy / len, dx / len)
+            } else {
+                (0.0, 1.0)
+            };
             let g = guide[i];
             let reach = |sign: f32| {
                 let mut ext = 0.0;
@@ -148,7 +166,9 @@ impl<'a> CorridorEncoding<'a> {
 
     /// The guide indices of the movable stations.
     pub fn station_indices(&self) -> impl Iterator<Item = usize> + '_ {
-        self.stations[1..self.stations.len() - 1].iter().map(|s| s.index as usize)
+        self.stations[1..self.stations.len() - 1]
+            .iter()
+            .map(|s| s.index as usize)
     }
 
     fn waypoint(&self, s: usize, x: &[f32]) -> Point {
@@ -157,7 +177,11 @@ impl<'a> CorridorEncoding<'a> {
             return st.point;
         }
         let v = x.get(s - 1).copied().unwrap_or(0.0);
-        let v = if v.is_finite() { v.clamp(-1.0, 1.0) } else { 0.0 };
+        let v = if v.is_finite() {
+            v.clamp(-1.0, 1.0)
+        } else {
+            0.0
+        };
         let t = if v >= 0.0 { v * st.pos } else { v * st.neg };
         Point::new(st.point.x + t * st.normal.0, st.point.y + t * st.normal.1)
     }
@@ -180,7 +204,9 @@ impl Encoding for CorridorEncoding<'_> {
             total += if segment_is_clear(self.grid, a, b) {
                 a.distance(b)
             } else {
-                a.distance(self.stations[s].point) + self.stations[s].arc_to_next + self.stations[s + 1].point.distance(b)
+                a.distance(self.stations[s].point)
+                    + self.stations[s].arc_to_next
+                    + self.stations[s + 1].point.distance(b)
             };
             a = b;
         }
@@ -200,7 +226,10 @@ impl Encoding for CorridorEncoding<'_> {
         for s in 0..self.stations.len() - 1 {
             let b = self.waypoint(s + 1, x);
             if !segment_is_clear(self.grid, a, b) {
-                let (i, j) = (self.stations[s].index as usize, self.stations[s + 1].index as usize);
+                let (i, j) = (
+                    self.stations[s].index as usize,
+                    self.stations[s + 1].index as usize,
+                );
                 for &g in &self.guide[i..j] {
                     push(out, g)?;
                 }
@@ -223,9 +252,9 @@ fn same_heading(a: Point, b: Point, c: Point) -> bool {
 mod tests {
     use super::*;
     use crate::geometry::Cell;
-    use crate::grid::{words_for, Grid};
-    use crate::path::{length, validate, Path};
-    use crate::search::{astar, SearchNode};
+    use crate::grid::{Grid, words_for};
+    use crate::path::{Path, length, validate};
+    use crate::search::{SearchNode, astar};
 
     type G = Grid<{ words_for(32, 32) }>;
 
@@ -276,7 +305,10 @@ mod tests {
         for st in enc.stations {
             for sign in [-1.0, 1.0] {
                 let ext = if sign > 0.0 { st.pos } else { st.neg };
-                let p = Point::new(st.point.x + sign * ext * st.normal.0, st.point.y + sign * ext * st.normal.1);
+                let p = Point::new(
+                    st.point.x + sign * ext * st.normal.0,
+                    st.point.y + sign * ext * st.normal.1,
+                );
                 assert!(segment_is_clear(g.view(), st.point, p));
             }
         }

@@ -12,9 +12,9 @@
 //! the paper's (a diagonal is forbidden only when *both* side cells are blocked). Paths of the
 //! loose rule may touch blocked corners; check them with [`validate_walk`].
 
-use super::{infeasible_penalty, Encoding};
+use super::{Encoding, infeasible_penalty};
 use crate::error::PlanError;
-use crate::geometry::{octile, Cell};
+use crate::geometry::{Cell, octile};
 use crate::grid::GridRef;
 use crate::path::PathView;
 use crate::search::MOVES;
@@ -91,7 +91,11 @@ impl<'g, 'b> WalkEncoding<'g, 'b> {
     }
 
     /// Runs the walk, calling `visit` on each cell; returns (length, reached goal, last cell).
-    fn run(&mut self, x: &[f32], mut visit: impl FnMut(Cell) -> Result<(), PlanError>) -> Result<(f32, bool, Cell), PlanError> {
+    fn run(
+        &mut self,
+        x: &[f32],
+        mut visit: impl FnMut(Cell) -> Result<(), PlanError>,
+    ) -> Result<(f32, bool, Cell), PlanError> {
         self.visited.iter_mut().for_each(|w| *w = 0);
         let width = self.grid.width();
         let mark = |visited: &mut [u32], c: Cell| {
@@ -118,7 +122,10 @@ impl<'g, 'b> WalkEncoding<'g, 'b> {
             let mut h_min = f32::INFINITY;
             for (dx, dy, cost) in MOVES {
                 let (x0, y0) = (cur.x as isize, cur.y as isize);
-                if !self.rule.allows(self.grid, x0, y0, dx as isize, dy as isize) {
+                if !self
+                    .rule
+                    .allows(self.grid, x0, y0, dx as isize, dy as isize)
+                {
                     continue;
                 }
                 let next = Cell::new((x0 + dx as isize) as u16, (y0 + dy as isize) as u16);
@@ -140,7 +147,11 @@ impl<'g, 'b> WalkEncoding<'g, 'b> {
                 c.1 = libm::expf(-self.beta * (c.1 - h_min));
                 total += c.1;
             }
-            let draw = if draw.is_finite() { draw.clamp(0.0, 1.0) } else { 0.0 };
+            let draw = if draw.is_finite() {
+                draw.clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
             let mut target = draw * total;
             let mut pick = n - 1;
             for (i, c) in cand.iter().enumerate().take(n) {
@@ -179,8 +190,15 @@ impl Encoding for WalkEncoding<'_, '_> {
 
     fn decode(&mut self, x: &[f32], out: &mut PathView) -> Result<(), PlanError> {
         out.clear();
-        let (_, reached, _) = self.run(x, |c| out.push(c.center()).map_err(|_| PlanError::CapacityExceeded))?;
-        if reached { Ok(()) } else { Err(PlanError::BudgetExhausted) }
+        let (_, reached, _) = self.run(x, |c| {
+            out.push(c.center())
+                .map_err(|_| PlanError::CapacityExceeded)
+        })?;
+        if reached {
+            Ok(())
+        } else {
+            Err(PlanError::BudgetExhausted)
+        }
     }
 }
 
@@ -193,15 +211,23 @@ pub fn validate_walk(grid: GridRef<'_>, path: &[crate::geometry::Point], rule: C
             && (dx != 0.0 || dy != 0.0)
             && libm::truncf(w[0].x) == w[0].x
             && libm::truncf(w[0].y) == w[0].y
-            && rule.allows(grid, w[0].x as isize, w[0].y as isize, dx as isize, dy as isize)
-    }) && path.first().is_some_and(|p| !grid.is_blocked(p.x as isize, p.y as isize))
+            && rule.allows(
+                grid,
+                w[0].x as isize,
+                w[0].y as isize,
+                dx as isize,
+                dy as isize,
+            )
+    }) && path
+        .first()
+        .is_some_and(|p| !grid.is_blocked(p.x as isize, p.y as isize))
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::grid::{words_for, Grid};
-    use crate::path::{length, validate, Path};
+    use crate::grid::{Grid, words_for};
+    use crate::path::{Path, length, validate};
 
     type G = Grid<{ words_for(8, 8) }>;
 
@@ -209,13 +235,25 @@ mod tests {
     fn greedy_draws_walk_straight_to_the_goal() {
         let g = G::new(6, 6).unwrap();
         let mut bits = [0u32; 2];
-        let mut enc = WalkEncoding::new(g.view(), Cell::new(0, 0), Cell::new(5, 3), 10, CornerRule::Strict, 8.0, &mut bits).unwrap();
+        let mut enc = WalkEncoding::new(
+            g.view(),
+            Cell::new(0, 0),
+            Cell::new(5, 3),
+            10,
+            CornerRule::Strict,
+            8.0,
+            &mut bits,
+        )
+        .unwrap();
         let x = [0.0; 10];
         let c = enc.cost(&x);
         assert!((c - (2.0 + 3.0 * 2f32.sqrt())).abs() < 1e-5, "{c}");
         let mut p: Path<16> = Path::new();
         enc.decode(&x, &mut p).unwrap();
-        assert_eq!(validate(g.view(), &p, Cell::new(0, 0), Cell::new(5, 3)), Ok(()));
+        assert_eq!(
+            validate(g.view(), &p, Cell::new(0, 0), Cell::new(5, 3)),
+            Ok(())
+        );
         assert!((length(&p) - c).abs() < 1e-5);
     }
 
@@ -232,13 +270,34 @@ mod tests {
     fn dead_ends_and_short_walks_are_penalised() {
         let g = G::parse_rows(b"...@.\n.@@@.\n.....\n").unwrap();
         let mut bits = [0u32; 2];
-        let mut enc = WalkEncoding::new(g.view(), Cell::new(0, 0), Cell::new(4, 0), 3, CornerRule::Strict, 2.0, &mut bits).unwrap();
+        let mut enc = WalkEncoding::new(
+            g.view(),
+            Cell::new(0, 0),
+            Cell::new(4, 0),
+            3,
+            CornerRule::Strict,
+            2.0,
+            &mut bits,
+        )
+        .unwrap();
         assert!(enc.cost(&[0.0, 0.0, 0.0]) > infeasible_penalty(g.view()));
         let mut p: Path<16> = Path::new();
-        assert_eq!(enc.decode(&[0.0; 3], &mut p), Err(PlanError::BudgetExhausted));
+        assert_eq!(
+            enc.decode(&[0.0; 3], &mut p),
+            Err(PlanError::BudgetExhausted)
+        );
         let mut bits = [0u32; 1];
         assert_eq!(
-            WalkEncoding::new(g.view(), Cell::new(0, 0), Cell::new(4, 0), 3, CornerRule::Strict, f32::NAN, &mut bits).unwrap_err(),
+            WalkEncoding::new(
+                g.view(),
+                Cell::new(0, 0),
+                Cell::new(4, 0),
+                3,
+                CornerRule::Strict,
+                f32::NAN,
+                &mut bits
+            )
+            .unwrap_err(),
             PlanError::InvalidParameters
         );
     }

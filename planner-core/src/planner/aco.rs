@@ -11,7 +11,7 @@ use crate::geometry::{Cell, Point};
 use crate::grid::GridRef;
 use crate::optim::random::Random;
 use crate::path::{self, PathView};
-use crate::search::{check_endpoints, connectivity, move_allowed, MOVES};
+use crate::search::{MOVES, check_endpoints, connectivity, move_allowed};
 
 use super::{PlanReport, PlanStop};
 
@@ -123,7 +123,11 @@ pub fn plan(
         if iteration >= params.iterations {
             break PlanStop::Iterations;
         }
-        if params.stagnation.is_some_and(|k| iteration - best_iteration >= k) && best_len.is_finite() {
+        if params
+            .stagnation
+            .is_some_and(|k| iteration - best_iteration >= k)
+            && best_len.is_finite()
+        {
             break PlanStop::Stagnation;
         }
         ws.delta[..8 * cells].iter_mut().for_each(|d| *d = 0.0);
@@ -150,7 +154,8 @@ pub fn plan(
                     }
                     let d = next.center().distance(goal_pt);
                     let eta = 1.0 / d.max(0.5);
-                    let w = libm::powf(ws.tau[8 * idx(cur) + m], params.alpha) * libm::powf(eta, params.beta);
+                    let w = libm::powf(ws.tau[8 * idx(cur) + m], params.alpha)
+                        * libm::powf(eta, params.beta);
                     weight[m] = if w.is_finite() { w } else { f32::MAX / 16.0 };
                     total += weight[m];
                 }
@@ -170,7 +175,10 @@ pub fn plan(
                 }
                 let Some(m) = pick else { break };
                 let (dx, dy, cost) = MOVES[m];
-                cur = Cell::new((cur.x as isize + dx as isize) as u16, (cur.y as isize + dy as isize) as u16);
+                cur = Cell::new(
+                    (cur.x as isize + dx as isize) as u16,
+                    (cur.y as isize + dy as isize) as u16,
+                );
                 steps += 1;
                 length += cost;
                 ws.walk[steps] = idx(cur) as u32;
@@ -209,7 +217,8 @@ pub fn plan(
     out.clear();
     for &i in &ws.best[..=best_steps] {
         let c = grid.cell(i as usize);
-        out.push(Point::new(c.x as f32, c.y as f32)).map_err(|_| PlanError::CapacityExceeded)?;
+        out.push(Point::new(c.x as f32, c.y as f32))
+            .map_err(|_| PlanError::CapacityExceeded)?;
     }
     if path::validate(grid, out, start, goal).is_err() {
         return Err(PlanError::NoValidPath);
@@ -245,5 +254,7 @@ fn is_marked(bits: &[u32], i: usize) -> bool {
 fn move_index(from: usize, to: usize, width: usize) -> Option<usize> {
     let (fx, fy) = ((from % width) as isize, (from / width) as isize);
     let (tx, ty) = ((to % width) as isize, (to / width) as isize);
-    MOVES.iter().position(|&(dx, dy, _)| fx + dx as isize == tx && fy + dy as isize == ty)
+    MOVES
+        .iter()
+        .position(|&(dx, dy, _)| fx + dx as isize == tx && fy + dy as isize == ty)
 }

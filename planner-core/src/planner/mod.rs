@@ -29,10 +29,10 @@ pub mod aco;
 #[cfg(feature = "alloc")]
 pub mod owned;
 
+use crate::encoding::Encoding;
 use crate::encoding::column::ColumnEncoding;
 use crate::encoding::corridor::{CorridorEncoding, Station};
-use crate::encoding::walk::{validate_walk, CornerRule, WalkEncoding};
-use crate::encoding::Encoding;
+use crate::encoding::walk::{CornerRule, WalkEncoding, validate_walk};
 use crate::error::PlanError;
 use crate::geometry::Cell;
 use crate::grid::GridRef;
@@ -40,7 +40,7 @@ use crate::optim::any::{AlgorithmKind, AnyOptimizer};
 use crate::optim::random::Random;
 use crate::optim::{Bounds, OptimError, Optimizer, Settings};
 use crate::path::{self, PathView};
-use crate::search::{astar, check_endpoints, SearchNode};
+use crate::search::{SearchNode, astar, check_endpoints};
 
 /// Every planner of the crate, by its command-line name.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -151,7 +151,8 @@ pub struct PlanParams {
     pub population: usize,
     /// Iteration horizon `T` (the papers use 500).
     pub iterations: u32,
-    /// Stop after this many iterations without improvement (`None`: run to `T`).
+    /// Stop after this many iterations without a relative improvement of
+    /// [`STAGNATION_TOL`] (`None`: run to `T`).
     pub stagnation: Option<u32>,
     /// The seed.
     pub seed: u64,
@@ -184,7 +185,7 @@ impl PlanParams {
             init: InitKind::Optimizer,
             prune: true,
             corner_rule: CornerRule::Strict,
-            corridor_spacing: 3.0,
+            corridor_spacing: 8.0,
             corridor_radius: 5.0,
             walk_steps: 0,
             walk_beta: 2.0,
@@ -255,9 +256,14 @@ pub struct Workspace<'a> {
     pub visited: &'a mut [u32],
 }
 
+/// Relative improvement below which an iteration counts as stagnant.
+pub const STAGNATION_TOL: f32 = 1e-4;
+
 fn optim_error(e: OptimError) -> PlanError {
     match e {
-        OptimError::PopulationOutOfRange | OptimError::DimensionOutOfRange => PlanError::CapacityExceeded,
+        OptimError::PopulationOutOfRange | OptimError::DimensionOutOfRange => {
+            PlanError::CapacityExceeded
+        }
         _ => PlanError::InvalidParameters,
     }
 }
@@ -307,17 +313,25 @@ pub fn plan<const N: usize, const D: usize>(
             if enc.dim() == 0 {
                 return trivial(grid, ws.guide, out);
             }
-            optimise::<N, D, _>(grid, start, goal, params, &mut enc, None, out, history, interrupt)
+            optimise::<N, D, _>(
+                grid, start, goal, params, &mut enc, None, out, history, interrupt,
+            )
         }
         EncodingKind::Column => {
             let mut enc = ColumnEncoding::new(grid, start, goal)?;
             if enc.dim() > D {
                 return Err(PlanError::CapacityExceeded);
             }
-            optimise::<N, D, _>(grid, start, goal, params, &mut enc, None, out, history, interrupt)
+            optimise::<N, D, _>(
+                grid, start, goal, params, &mut enc, None, out, history, interrupt,
+            )
         }
         EncodingKind::Walk => {
-            let steps = if params.walk_steps == 0 { D } else { params.walk_steps };
+            let steps = if params.walk_steps == 0 {
+                D
+            } else {
+                params.walk_steps
+            };
             if steps > D {
                 return Err(PlanError::CapacityExceeded);
             }
@@ -325,8 +339,19 @@ pub fn plan<const N: usize, const D: usize>(
                 return trivial(grid, ws.guide, out);
             }
             let rule = params.corner_rule;
-            let mut enc = WalkEncoding::new(grid, start, goal, steps, rule, params.walk_beta, ws.visited)?;
-            optimise::<N, D, _>(grid, start, goal, params, &mut enc, Some(rule), out, history, interrupt)
+            let mut enc =
+                WalkEncoding::new(grid, start, goal, steps, rule, params.walk_beta, ws.visited)?;
+            optimise::<N, D, _>(
+                grid,
+                start,
+                goal,
+                params,
+                &mut enc,
+                Some(rule),
+                out,
+                history,
+                interrupt,
+            )
         }
     }
 }
@@ -349,7 +374,11 @@ fn check_params(p: &PlanParams) -> Result<(), PlanError> {
 }
 
 /// The guide itself (start equals goal, or goal adjacent): nothing to optimise.
-fn trivial(grid: GridRef<'_>, guide: &PathView, out: &mut PathView) -> Result<PlanReport, PlanError> {
+fn trivial(
+    grid: GridRef<'_>,
+    guide: &PathView,
+    out: &mut PathView,
+) -> Result<PlanReport, PlanError> {
     out.clear();
     for p in guide.iter() {
         out.push(*p).map_err(|_| PlanError::CapacityExceeded)?;
@@ -397,7 +426,8 @@ fn optimise<const N: usize, const D: usize, E: Encoding>(
         iterations: params.iterations,
         seed: params.seed,
     };
-    let mut opt = AnyOptimizer::<N, D>::new(params.algorithm, settings, &bounds).map_err(optim_error)?;
+    let mut opt =
+        AnyOptimizer::<N, D>::new(params.algorithm, settings, &bounds).map_err(optim_error)?;
     let mut objective = |x: &[f32]| enc.cost(x);
     match params.init {
         InitKind::Optimizer => opt.init(&mut objective, None),
@@ -415,11 +445,20 @@ fn optimise<const N: usize, const D: usize, E: Encoding>(
     .map_err(optim_error)?;
     let initial_cost = opt.best_cost();
     let mut written = 0;
+    // Stagnation counts iterations without a *relative* improvement of STAGNATION_TOL: the
+    // Cauchy and Levy moves keep shaving off micro-units long after the path has settled.
+    let (mut settled_cost, mut settled_at) = (initial_cost, 0u32);
     let stop = loop {
         if opt.iteration() >= params.iterations {
             break PlanStop::Iterations;
         }
-        if params.stagnation.is_some_and(|k| opt.iteration() - opt.best_iteration() >= k) {
+        if opt.best_cost() < settled_cost * (1.0 - STAGNATION_TOL) {
+            (settled_cost, settled_at) = (opt.best_cost(), opt.iteration());
+        }
+        if params
+            .stagnation
+            .is_some_and(|k| opt.iteration() - settled_at >= k)
+        {
             break PlanStop::Stagnation;
         }
         if interrupt() {
@@ -434,7 +473,11 @@ fn optimise<const N: usize, const D: usize, E: Encoding>(
     let final_cost = opt.best_cost();
     enc.decode(opt.best_position(), out)?;
     let valid = match walk_rule {
-        Some(rule) => validate_walk(grid, out, rule) && out.first() == Some(&start.center()) && out.last() == Some(&goal.center()),
+        Some(rule) => {
+            validate_walk(grid, out, rule)
+                && out.first() == Some(&start.center())
+                && out.last() == Some(&goal.center())
+        }
         None => path::validate(grid, out, start, goal).is_ok(),
     };
     if !valid {
@@ -462,7 +505,13 @@ fn optimise<const N: usize, const D: usize, E: Encoding>(
 /// The patent's square-neighbourhood diffusion for the column encoding: row `j` is a free
 /// row of column `start.x + j` within Chebyshev radius `j` of the start (the ring's edge in
 /// that column), drawn uniformly; a column with none keeps the start row.
-fn diffusion_rows<const D: usize>(grid: GridRef<'_>, start: Cell, rows: &mut [[f32; D]], dim: usize, seed: u64) {
+fn diffusion_rows<const D: usize>(
+    grid: GridRef<'_>,
+    start: Cell,
+    rows: &mut [[f32; D]],
+    dim: usize,
+    seed: u64,
+) {
     let mut rng = Random::new(seed ^ 0xD1FF_0510);
     for row in rows.iter_mut() {
         for (j, v) in row.iter_mut().enumerate().take(dim) {

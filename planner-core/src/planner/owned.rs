@@ -12,12 +12,12 @@ use alloc::vec;
 use alloc::vec::Vec;
 
 use super::aco::{self, AcoParams, AcoWorkspace};
-use super::{plan, PlanParams, PlanReport, PlannerKind, Workspace};
+use super::{PlanParams, PlanReport, PlannerKind, Workspace, plan};
 use crate::error::PlanError;
 use crate::geometry::Cell;
 use crate::grid::GridRef;
 use crate::path::{self, Path, PathView};
-use crate::search::{astar, connectivity, theta, SearchNode};
+use crate::search::{SearchNode, astar, connectivity, theta};
 
 /// Population capacity of host plans.
 pub const HOST_POPULATION: usize = 128;
@@ -156,13 +156,18 @@ impl HostPlanner {
                 if !connectivity::connected(grid, labels, start, goal)? {
                     return Err(PlanError::NoValidPath);
                 }
-                let params = PlanParams { algorithm, ..*params };
+                let params = PlanParams {
+                    algorithm,
+                    ..*params
+                };
                 let mut ws = Workspace {
                     nodes: &mut self.nodes,
                     guide: &mut *self.guide,
                     visited: &mut self.visited,
                 };
-                let report = plan::<HOST_POPULATION, HOST_DIMENSION>(grid, start, goal, &params, &mut ws, out, history, interrupt)?;
+                let report = plan::<HOST_POPULATION, HOST_DIMENSION>(
+                    grid, start, goal, &params, &mut ws, out, history, interrupt,
+                )?;
                 Ok(Outcome {
                     length: report.length,
                     turns: report.turns,

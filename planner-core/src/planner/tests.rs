@@ -1,9 +1,9 @@
-use std::{boxed::Box, vec};
 use super::*;
-use crate::grid::{words_for, Grid};
-use crate::maps::{lab_20x20, seed000, MapKind};
-use crate::path::{validate, Path};
+use crate::grid::{Grid, words_for};
+use crate::maps::{MapKind, lab_20x20, seed000};
+use crate::path::{Path, validate};
 use crate::search::connectivity;
+use std::{boxed::Box, vec};
 
 type G = Grid<{ words_for(40, 40) }>;
 
@@ -22,7 +22,13 @@ impl Scratch {
         })
     }
 
-    fn run(&mut self, g: &G, s: Cell, t: Cell, p: &PlanParams) -> Result<(PlanReport, Path<1600>), PlanError> {
+    fn run(
+        &mut self,
+        g: &G,
+        s: Cell,
+        t: Cell,
+        p: &PlanParams,
+    ) -> Result<(PlanReport, Path<1600>), PlanError> {
         let mut ws = Workspace {
             nodes: &mut self.nodes,
             guide: &mut self.guide,
@@ -46,9 +52,18 @@ fn corridor_paths_are_valid_and_improve_on_initialisation() {
     let mut sc = Scratch::new();
     for kind in [MapKind::Sparse, MapKind::Warehouse] {
         let m = seed000::<{ words_for(40, 40) }>(kind, 40).unwrap();
-        for algo in [AlgorithmKind::Tclhho, AlgorithmKind::Igwo, AlgorithmKind::Hho, AlgorithmKind::Gwo] {
+        for algo in [
+            AlgorithmKind::Tclhho,
+            AlgorithmKind::Igwo,
+            AlgorithmKind::Hho,
+            AlgorithmKind::Gwo,
+        ] {
             let (r, p) = sc.run(&m.grid, m.start, m.goal, &quick(algo)).unwrap();
-            assert_eq!(validate(m.grid.view(), &p, m.start, m.goal), Ok(()), "{kind:?} {algo:?}");
+            assert_eq!(
+                validate(m.grid.view(), &p, m.start, m.goal),
+                Ok(()),
+                "{kind:?} {algo:?}"
+            );
             assert!(r.final_cost < r.initial_cost, "{kind:?} {algo:?} {r:?}");
             assert!(r.length <= r.final_cost + 1e-3);
             assert!(r.evaluations > 0 && r.dimension > 0);
@@ -60,7 +75,10 @@ fn corridor_paths_are_valid_and_improve_on_initialisation() {
 fn same_seed_same_path_different_seed_may_differ() {
     let mut sc = Scratch::new();
     let m = seed000::<{ words_for(40, 40) }>(MapKind::Sparse, 30).unwrap();
-    let p = PlanParams { seed: 9, ..quick(AlgorithmKind::Tclhho) };
+    let p = PlanParams {
+        seed: 9,
+        ..quick(AlgorithmKind::Tclhho)
+    };
     let (a, pa) = sc.run(&m.grid, m.start, m.goal, &p).unwrap();
     let (b, pb) = sc.run(&m.grid, m.start, m.goal, &p).unwrap();
     assert_eq!(a, b);
@@ -78,12 +96,21 @@ fn column_encoding_reproduces_seed_000() {
     let (r, path) = sc.run(&m.grid, m.start, m.goal, &p).unwrap();
     assert_eq!(validate(m.grid.view(), &path, m.start, m.goal), Ok(()));
     assert!(r.final_cost < 20.0, "{r:?}");
-    let diff = PlanParams { init: InitKind::Diffusion, ..p };
+    let diff = PlanParams {
+        init: InitKind::Diffusion,
+        ..p
+    };
     let (r2, _) = sc.run(&m.grid, m.start, m.goal, &diff).unwrap();
     assert!(r2.final_cost < 20.0, "{r2:?}");
     // Diffusion is only defined for the column encoding.
-    let bad = PlanParams { encoding: EncodingKind::Corridor, ..diff };
-    assert_eq!(sc.run(&m.grid, m.start, m.goal, &bad).unwrap_err(), PlanError::InvalidParameters);
+    let bad = PlanParams {
+        encoding: EncodingKind::Corridor,
+        ..diff
+    };
+    assert_eq!(
+        sc.run(&m.grid, m.start, m.goal, &bad).unwrap_err(),
+        PlanError::InvalidParameters
+    );
 }
 
 #[test]
@@ -100,10 +127,16 @@ fn walk_encoding_reproduces_seed_003() {
         let (r, path) = sc.run(&lab.grid, lab.start, lab.goal, &p).unwrap();
         assert!(validate_walk(lab.grid.view(), &path, rule) || rule == CornerRule::Strict);
         if rule == CornerRule::Strict {
-            assert_eq!(validate(lab.grid.view(), &path, lab.start, lab.goal), Ok(()));
+            assert_eq!(
+                validate(lab.grid.view(), &path, lab.start, lab.goal),
+                Ok(())
+            );
         }
         // Octile optimum is at least 19 sqrt 2 = 26.87.
-        assert!(r.final_cost >= 26.8 && r.final_cost < 40.0, "{rule:?} {r:?}");
+        assert!(
+            r.final_cost >= 26.8 && r.final_cost < 40.0,
+            "{rule:?} {r:?}"
+        );
     }
 }
 
@@ -113,37 +146,106 @@ fn every_error_from_bad_input() {
     let g = G::parse_rows(b"....@...\n....@...\n....@...\n").unwrap();
     let p = quick(AlgorithmKind::Tclhho);
     let c = Cell::new;
-    assert_eq!(sc.run(&g, c(9, 0), c(0, 0), &p).unwrap_err(), PlanError::StartOutsideMap);
-    assert_eq!(sc.run(&g, c(0, 0), c(0, 9), &p).unwrap_err(), PlanError::GoalOutsideMap);
-    assert_eq!(sc.run(&g, c(4, 0), c(0, 0), &p).unwrap_err(), PlanError::StartOccupied);
-    assert_eq!(sc.run(&g, c(0, 0), c(4, 1), &p).unwrap_err(), PlanError::GoalOccupied);
-    assert_eq!(sc.run(&g, c(0, 0), c(7, 2), &p).unwrap_err(), PlanError::NoValidPath);
+    assert_eq!(
+        sc.run(&g, c(9, 0), c(0, 0), &p).unwrap_err(),
+        PlanError::StartOutsideMap
+    );
+    assert_eq!(
+        sc.run(&g, c(0, 0), c(0, 9), &p).unwrap_err(),
+        PlanError::GoalOutsideMap
+    );
+    assert_eq!(
+        sc.run(&g, c(4, 0), c(0, 0), &p).unwrap_err(),
+        PlanError::StartOccupied
+    );
+    assert_eq!(
+        sc.run(&g, c(0, 0), c(4, 1), &p).unwrap_err(),
+        PlanError::GoalOccupied
+    );
+    assert_eq!(
+        sc.run(&g, c(0, 0), c(7, 2), &p).unwrap_err(),
+        PlanError::NoValidPath
+    );
     for bad in [
-        PlanParams { corridor_radius: f32::NAN, ..p },
-        PlanParams { corridor_spacing: -1.0, ..p },
+        PlanParams {
+            corridor_radius: f32::NAN,
+            ..p
+        },
+        PlanParams {
+            corridor_spacing: -1.0,
+            ..p
+        },
         PlanParams { population: 0, ..p },
         PlanParams { iterations: 0, ..p },
-        PlanParams { stagnation: Some(0), ..p },
-        PlanParams { walk_beta: f32::INFINITY, ..p },
+        PlanParams {
+            stagnation: Some(0),
+            ..p
+        },
+        PlanParams {
+            walk_beta: f32::INFINITY,
+            ..p
+        },
     ] {
-        assert_eq!(sc.run(&g, c(0, 0), c(3, 2), &bad).unwrap_err(), PlanError::InvalidParameters);
+        assert_eq!(
+            sc.run(&g, c(0, 0), c(3, 2), &bad).unwrap_err(),
+            PlanError::InvalidParameters
+        );
     }
-    assert_eq!(sc.run(&g, c(0, 0), c(3, 2), &PlanParams { population: 31, ..p }).unwrap_err(), PlanError::CapacityExceeded);
+    assert_eq!(
+        sc.run(
+            &g,
+            c(0, 0),
+            c(3, 2),
+            &PlanParams {
+                population: 31,
+                ..p
+            }
+        )
+        .unwrap_err(),
+        PlanError::CapacityExceeded
+    );
     // Column encoding cannot go right to left.
-    let col = PlanParams { encoding: EncodingKind::Column, ..p };
-    assert_eq!(sc.run(&g, c(3, 2), c(0, 0), &col).unwrap_err(), PlanError::InvalidParameters);
+    let col = PlanParams {
+        encoding: EncodingKind::Column,
+        ..p
+    };
+    assert_eq!(
+        sc.run(&g, c(3, 2), c(0, 0), &col).unwrap_err(),
+        PlanError::InvalidParameters
+    );
     // A wall the column encoding cannot pass in 3 rows: infeasible best -> BudgetExhausted.
     let u = G::parse_rows(b".@...\n.@.@.\n...@.\n").unwrap();
-    let col = PlanParams { encoding: EncodingKind::Column, iterations: 20, ..p };
-    assert_eq!(sc.run(&u, c(0, 0), c(4, 0), &col).unwrap_err(), PlanError::BudgetExhausted);
+    let col = PlanParams {
+        encoding: EncodingKind::Column,
+        iterations: 20,
+        ..p
+    };
+    assert_eq!(
+        sc.run(&u, c(0, 0), c(4, 0), &col).unwrap_err(),
+        PlanError::BudgetExhausted
+    );
     // Small buffers.
     let mut nodes = [SearchNode::EMPTY; 4];
     let mut guide: Path<4> = Path::new();
     let mut visited = [0u32; 1];
-    let mut ws = Workspace { nodes: &mut nodes, guide: &mut guide, visited: &mut visited };
+    let mut ws = Workspace {
+        nodes: &mut nodes,
+        guide: &mut guide,
+        visited: &mut visited,
+    };
     let mut out: Path<4> = Path::new();
     assert_eq!(
-        plan::<30, 8>(g.view(), c(0, 0), c(3, 2), &p, &mut ws, &mut out, &mut [], &mut || false).unwrap_err(),
+        plan::<30, 8>(
+            g.view(),
+            c(0, 0),
+            c(3, 2),
+            &p,
+            &mut ws,
+            &mut out,
+            &mut [],
+            &mut || false
+        )
+        .unwrap_err(),
         PlanError::CapacityExceeded
     );
 }
@@ -152,21 +254,51 @@ fn every_error_from_bad_input() {
 fn trivial_queries_and_interrupts() {
     let mut sc = Scratch::new();
     let g = G::new(8, 8).unwrap();
-    let (r, p) = sc.run(&g, Cell::new(2, 2), Cell::new(2, 2), &quick(AlgorithmKind::Tclhho)).unwrap();
+    let (r, p) = sc
+        .run(
+            &g,
+            Cell::new(2, 2),
+            Cell::new(2, 2),
+            &quick(AlgorithmKind::Tclhho),
+        )
+        .unwrap();
     assert_eq!((r.length, r.stop, p.len()), (0.0, PlanStop::Trivial, 1));
-    let (r, _) = sc.run(&g, Cell::new(2, 2), Cell::new(3, 3), &quick(AlgorithmKind::Tclhho)).unwrap();
+    let (r, _) = sc
+        .run(
+            &g,
+            Cell::new(2, 2),
+            Cell::new(3, 3),
+            &quick(AlgorithmKind::Tclhho),
+        )
+        .unwrap();
     assert_eq!(r.stop, PlanStop::Trivial);
     let m = seed000::<{ words_for(40, 40) }>(MapKind::Warehouse, 30).unwrap();
-    let mut ws = Workspace { nodes: &mut sc.nodes, guide: &mut sc.guide, visited: &mut sc.visited };
+    let mut ws = Workspace {
+        nodes: &mut sc.nodes,
+        guide: &mut sc.guide,
+        visited: &mut sc.visited,
+    };
     let mut out: Path<1600> = Path::new();
     let mut calls = 0;
     let mut hist = [0.0f32; 500];
-    let r = plan::<30, 64>(m.grid.view(), m.start, m.goal, &quick(AlgorithmKind::Tclhho), &mut ws, &mut out, &mut hist, &mut || {
-        calls += 1;
-        calls > 5
-    })
+    let r = plan::<30, 64>(
+        m.grid.view(),
+        m.start,
+        m.goal,
+        &quick(AlgorithmKind::Tclhho),
+        &mut ws,
+        &mut out,
+        &mut hist,
+        &mut || {
+            calls += 1;
+            calls > 5
+        },
+    )
     .unwrap();
-    assert_eq!((r.stop, r.iterations, r.history_len), (PlanStop::Interrupted, 5, 5));
+    assert_eq!(
+        (r.stop, r.iterations, r.history_len),
+        (PlanStop::Interrupted, 5, 5)
+    );
     assert!(hist[..5].windows(2).all(|w| w[1] <= w[0]));
     assert_eq!(validate(m.grid.view(), &out, m.start, m.goal), Ok(()));
 }
@@ -189,10 +321,34 @@ fn aco_baseline_finds_valid_paths() {
         labels: &labels,
     };
     let mut out: Path<1600> = Path::new();
-    let p = aco::AcoParams { iterations: 40, ..Default::default() };
-    let r = aco::plan(m.grid.view(), m.start, m.goal, &p, &mut ws, &mut out, &mut []).unwrap();
+    let p = aco::AcoParams {
+        iterations: 40,
+        ..Default::default()
+    };
+    let r = aco::plan(
+        m.grid.view(),
+        m.start,
+        m.goal,
+        &p,
+        &mut ws,
+        &mut out,
+        &mut [],
+    )
+    .unwrap();
     assert_eq!(validate(m.grid.view(), &out, m.start, m.goal), Ok(()));
     assert!(r.final_cost >= 29.0 * 2f32.sqrt() - 1e-3);
     let bad = aco::AcoParams { rho: 0.0, ..p };
-    assert_eq!(aco::plan(m.grid.view(), m.start, m.goal, &bad, &mut ws, &mut out, &mut []).unwrap_err(), PlanError::InvalidParameters);
+    assert_eq!(
+        aco::plan(
+            m.grid.view(),
+            m.start,
+            m.goal,
+            &bad,
+            &mut ws,
+            &mut out,
+            &mut []
+        )
+        .unwrap_err(),
+        PlanError::InvalidParameters
+    );
 }
