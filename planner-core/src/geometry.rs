@@ -128,6 +128,34 @@ pub fn line_of_sight(grid: GridRef<'_>, a: Cell, b: Cell) -> bool {
     }
 }
 
+/// The number of blocked cells (or cells outside the map) the segment between two cell
+/// centres touches under the collision rule: 0 exactly when [`line_of_sight`] holds. A
+/// graded measure of "how blocked" a segment is, for penalties that guide an optimizer.
+pub fn blocked_cells_touched(grid: GridRef<'_>, a: Cell, b: Cell) -> u32 {
+    let (dx, dy) = (b.x as i64 - a.x as i64, b.y as i64 - a.y as i64);
+    let mut count = 0;
+    if dy.abs() > dx.abs() {
+        exact_strips(
+            (a.x as i64, a.y as i64),
+            (b.x as i64, b.y as i64),
+            |c, lo, hi| {
+                count += grid.column_run_count(c as isize, lo as isize, hi as isize);
+                false
+            },
+        );
+    } else {
+        exact_strips(
+            (a.y as i64, a.x as i64),
+            (b.y as i64, b.x as i64),
+            |r, lo, hi| {
+                count += grid.row_run_count(r as isize, lo as isize, hi as isize);
+                false
+            },
+        );
+    }
+    count
+}
+
 /// The exact rule in strip form, for a segment between lattice points `(u, v)`: strip `s`
 /// spans `u` in `[s - 1/2, s + 1/2]`; the cells it touches are the `v` run whose closed
 /// intervals `[p - 1/2, p + 1/2]` meet the segment's `v` range over the strip (corners

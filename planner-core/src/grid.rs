@@ -191,6 +191,24 @@ impl<const WORDS: usize> Grid<WORDS> {
         Ok(grid)
     }
 
+    /// Writes the grid as Moving AI `.map` text (`.` free, `@` blocked), the inverse of
+    /// [`parse_movingai`](Self::parse_movingai).
+    pub fn write_movingai(&self, out: &mut impl core::fmt::Write) -> core::fmt::Result {
+        write!(
+            out,
+            "type octile\nheight {}\nwidth {}\nmap\n",
+            self.height, self.width
+        )?;
+        let view = self.view();
+        for y in 0..self.height as isize {
+            for x in 0..self.width as isize {
+                out.write_char(if view.is_blocked(x, y) { '@' } else { '.' })?;
+            }
+            out.write_char('\n')?;
+        }
+        Ok(())
+    }
+
     fn fill_row(&mut self, row: usize, line: &[u8]) -> Result<(), MapError> {
         if line.len() != self.width {
             return Err(MapError::WrongRowLength {
@@ -318,6 +336,46 @@ impl<'a> GridRef<'a> {
         any_set(self.columns, base + y0 as usize, base + y1 as usize)
     }
 
+    /// Number of blocked cells in row `y`, columns `x0..=x1` (cells outside the map count).
+    pub fn row_run_count(&self, y: isize, x0: isize, x1: isize) -> u32 {
+        if x0 > x1 {
+            return 0;
+        }
+        let inside_lo = x0.max(0);
+        let inside_hi = x1.min(self.width as isize - 1);
+        let outside = (x1 - x0 + 1) as u32 - (inside_hi - inside_lo + 1).max(0) as u32;
+        if y < 0 || y as usize >= self.height || inside_lo > inside_hi {
+            return (x1 - x0 + 1) as u32;
+        }
+        let base = y as usize * self.width;
+        outside
+            + count_set(
+                self.bits,
+                base + inside_lo as usize,
+                base + inside_hi as usize,
+            )
+    }
+
+    /// Number of blocked cells in column `x`, rows `y0..=y1` (cells outside the map count).
+    pub fn column_run_count(&self, x: isize, y0: isize, y1: isize) -> u32 {
+        if y0 > y1 {
+            return 0;
+        }
+        let inside_lo = y0.max(0);
+        let inside_hi = y1.min(self.height as isize - 1);
+        let outside = (y1 - y0 + 1) as u32 - (inside_hi - inside_lo + 1).max(0) as u32;
+        if x < 0 || x as usize >= self.width || inside_lo > inside_hi {
+            return (y1 - y0 + 1) as u32;
+        }
+        let base = x as usize * self.height;
+        outside
+            + count_set(
+                self.columns,
+                base + inside_lo as usize,
+                base + inside_hi as usize,
+            )
+    }
+
     /// Whether a cell is on the map and free.
     #[inline]
     pub fn is_free(&self, cell: Cell) -> bool {
@@ -370,6 +428,25 @@ fn any_set(bits: &[u32], first: usize, last: usize) -> bool {
         }
         _ => true,
     }
+}
+
+/// Number of set bits in `first..=last` (missing words count as all set).
+fn count_set(bits: &[u32], first: usize, last: usize) -> u32 {
+    let (w0, w1) = (first / 32, last / 32);
+    let head = !0u32 << (first % 32);
+    let tail = !0u32 >> (31 - last % 32);
+    (w0..=w1)
+        .map(|w| {
+            let mask = match (w == w0, w == w1) {
+                (true, true) => head & tail,
+                (true, false) => head,
+                (false, true) => tail,
+                (false, false) => !0,
+            };
+            bits.get(w)
+                .map_or(mask.count_ones(), |v| (v & mask).count_ones())
+        })
+        .sum()
 }
 
 /// Parses a decimal side length; `None` for anything but 1-6 ASCII digits.
@@ -527,6 +604,18 @@ mod tests {
     }
 
     #[test]
+    fn writes_what_it_parses() {
+        let g = Small::parse_rows(b"..@.\n@...\n").unwrap();
+        let mut text: heapless::String<128> = heapless::String::new();
+        g.write_movingai(&mut text).unwrap();
+        assert_eq!(
+            text.as_str(),
+            "type octile\nheight 2\nwidth 4\nmap\n..@.\n@...\n"
+        );
+        assert_eq!(Small::parse_movingai(text.as_bytes()).unwrap(), g);
+    }
+
+    #[test]
     fn runs_agree_with_cells() {
         let g = Small::parse_rows(b"........\n...@....\n........\n.......@\n@.......\n").unwrap();
         let v = g.view();
@@ -541,6 +630,16 @@ mod tests {
             }
         }
         assert!(!v.row_run_blocked(0, 3, 2));
+        for a in -2..10isize {
+            for b in a..10 {
+                for line in -1..9isize {
+                    let row = (a..=b).filter(|&x| v.is_blocked(x, line)).count() as u32;
+                    assert_eq!(v.row_run_count(line, a, b), row, "row {line} {a}..{b}");
+                    let col = (a..=b).filter(|&y| v.is_blocked(line, y)).count() as u32;
+                    assert_eq!(v.column_run_count(line, a, b), col, "col {line} {a}..{b}");
+                }
+            }
+        }
         let mut wide = Grid::<{ words_for(100, 2) }>::new(100, 2).unwrap();
         wide.set_blocked(70, 1, true).unwrap();
         assert!(wide.view().row_run_blocked(1, 5, 95));

@@ -89,29 +89,31 @@ pub fn seed000<const WORDS: usize>(
     Ok(SeedMap { grid, start, goal })
 }
 
-/// Seed 003's 20 x 20 lab: a few walls and furniture blocks; start `(0, 0)`, goal `(19, 19)`.
+/// Seed 003's 20 x 20 lab: furniture blocks and a U-shaped bench facing the start (a local
+/// optimum for walks that head straight for the goal); start `(0, 0)`, goal `(19, 19)`.
 pub fn lab_20x20<const WORDS: usize>() -> Result<SeedMap<WORDS>, MapGenError> {
+    // A U-shaped bench opens towards the start: greedy diagonal walks run into it.
     const ROWS: [&[u8; 20]; 20] = [
         b"....................",
-        b"..@@@.......@@......",
-        b"..@@@.......@@...@..",
-        b"............@@...@..",
-        b"......@@.........@..",
-        b"......@@....@@@@....",
-        b"@@@...@@............",
-        b"@@@.............@@..",
-        b".........@@@....@@..",
-        b"....@....@@@........",
-        b"....@...........@@@.",
-        b"....@@@@...@@...@@@.",
+        b"........@@..........",
+        b"..@@@...@@......@@..",
+        b"..@@@...@@......@@..",
+        b"................@@..",
+        b".............@@.....",
+        b".............@@.....",
+        b".@@...@@@@...@@.....",
+        b".@@...@@@@...@@.....",
+        b".@@..........@@.@@@.",
+        b".@@..@@......@@.@@@.",
+        b".....@@......@@.....",
+        b".............@@.....",
+        b".....@@@@@@@@@@.....",
+        b".....@@@@@@@@@@.....",
+        b".................@..",
+        b"..@@.......@@....@..",
+        b"..@@...@@@@@@....@..",
+        b"..@@.......@@....@..",
         b"...........@@.......",
-        b"..@@.......@@...@...",
-        b"..@@...@@.......@...",
-        b".......@@...@@@.@...",
-        b"............@@@.....",
-        b".@@@@...@........@@.",
-        b"........@........@@.",
-        b"....................",
     ];
     let mut grid = Grid::new(20, 20).map_err(|_| MapGenError::BadSize)?;
     for (y, row) in ROWS.iter().enumerate() {
@@ -151,21 +153,23 @@ fn warehouse_shelves<const WORDS: usize>(size: usize) -> Result<Grid<WORDS>, Map
     Ok(grid)
 }
 
-/// Scattered obstacles of 1 x 1 to 2 x 3 cells covering about 15% of the map.
+/// Scattered obstacles of 1 x 1 to 2 x 2 cells covering about 10% of the map, none in the
+/// first or last column.
 fn sparse<const WORDS: usize>(size: usize, seed: u64) -> Result<Grid<WORDS>, MapGenError> {
     let mut grid = Grid::new(size, size).map_err(|_| MapGenError::BadSize)?;
     let mut rng = Xoshiro128PlusPlus::seed_from_u64(seed);
-    let target = size * size * 15 / 100;
+    let target = size * size / 10;
     let mut placed = 0;
     let mut tries = 0;
     while placed < target && tries < size * size * 4 {
         tries += 1;
         let w = 1 + (rng.next_u32() % 2) as usize;
-        let h = 1 + (rng.next_u32() % 3) as usize;
+        let h = 1 + (rng.next_u32() % 2) as usize;
         let x = (rng.next_u32() as usize) % size;
         let y = (rng.next_u32() as usize) % size;
-        // Keep the corners free for start and goal.
-        if (x < 2 && y < 2) || (x + w + 2 > size && y + h + 2 > size) {
+        // Keep the start and goal columns free: seed 000's column encoding moves vertically
+        // only there, so an obstacle in them would leave nothing for the optimizers to do.
+        if x == 0 || x + w >= size {
             continue;
         }
         for yy in y..(y + h).min(size) {

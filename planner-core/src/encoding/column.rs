@@ -10,7 +10,7 @@
 
 use super::{Encoding, infeasible_penalty};
 use crate::error::PlanError;
-use crate::geometry::{Cell, line_of_sight};
+use crate::geometry::{Cell, blocked_cells_touched};
 use crate::grid::GridRef;
 use crate::path::PathView;
 
@@ -44,7 +44,7 @@ impl<'g> ColumnEncoding<'g> {
         libm::roundf(v).max(0.0).min(max) as u16
     }
 
-    /// Visits the path's vertices; returns (length, blocked segments).
+    /// Visits the path's vertices; returns (length, blocked cells touched).
     fn walk(
         &self,
         x: &[f32],
@@ -58,9 +58,7 @@ impl<'g> ColumnEncoding<'g> {
             let dx = to.x as f32 - from.x as f32;
             let dy = to.y as f32 - from.y as f32;
             *length += crate::math::sqrt(dx * dx + dy * dy);
-            if !line_of_sight(self.grid, from, to) {
-                *blocked += 1;
-            }
+            *blocked += blocked_cells_touched(self.grid, from, to);
         };
         for (j, &v) in x.iter().enumerate() {
             let cell = Cell::new(self.start.x + j as u16, self.row(v));
