@@ -187,6 +187,15 @@ fn exact_strips(
     true
 }
 
+fn div_floor(a: i64, b: i64) -> i64 {
+    let q = a / b;
+    if (a % b != 0) && ((a < 0) != (b < 0)) { q - 1 } else { q }
+}
+
+fn div_ceil(a: i64, b: i64) -> i64 {
+    -div_floor(-a, b)
+}
+
 /// Collision check of a segment between arbitrary points under the same rule, in `f32`
 /// (conservative by [`TOUCH_EPS`]). Non-finite points and points on or beyond the map's
 /// outer edge are invalid.
@@ -232,8 +241,10 @@ fn float_strips(
         let (lo, hi) = if du == 0.0 {
             (v0.min(v1), v0.max(v1))
         } else {
-            let ul = u0.max(s as f32 - 0.5);
-            let ur = u1.min(s as f32 + 0.5);
+            // Clamped to the segment: a strip reached only through TOUCH_EPS is touched near
+            // an end point, and extrapolating the line there would run away when du is tiny.
+            let ul = (s as f32 - 0.5).clamp(u0, u1);
+            let ur = (s as f32 + 0.5).clamp(u0, u1);
             // Multiply before dividing: exact whenever the true value is representable,
             // which keeps corner touches exact.
             let vl = v0 + (ul - u0) * dv / du;
@@ -259,6 +270,18 @@ fn centre_cell(p: Point) -> Option<Cell> {
 /// `max`. Zero when the segment touches a blocked cell.
 pub fn segment_clearance(grid: GridRef<'_>, a: Point, b: Point, max: f32) -> f32 {
     if !a.is_finite() || !b.is_finite() || max.is_nan() || max < 0.0 {
+        return 0.0;
+    }
+    // An end on or beyond the map's edge touches an outside cell. (The scan below only
+    // visits the ring of outside cells next to the map, so it used to report the distance
+    // to that ring instead.) With both ends strictly inside, the whole segment is.
+    let on_map = |p: Point| {
+        p.x > -0.5
+            && p.y > -0.5
+            && p.x < grid.width() as f32 - 0.5
+            && p.y < grid.height() as f32 - 0.5
+    };
+    if !on_map(a) || !on_map(b) {
         return 0.0;
     }
     let max = max.min((grid.width() + grid.height()) as f32);
@@ -342,19 +365,6 @@ fn segment_meets_square(a: Point, b: Point, c: Point) -> bool {
         }
     }
     true
-}
-
-fn div_floor(a: i64, b: i64) -> i64 {
-    let q = a / b;
-    if (a % b != 0) && ((a < 0) != (b < 0)) {
-        q - 1
-    } else {
-        q
-    }
-}
-
-fn div_ceil(a: i64, b: i64) -> i64 {
-    -div_floor(-a, b)
 }
 
 #[cfg(test)]
@@ -477,18 +487,15 @@ mod tests {
     }
 
     #[test]
+    fn integer_division_helpers() {
+        assert_eq!((div_floor(-3, 2), div_floor(3, 2), div_floor(4, 2)), (-2, 1, 2));
+        assert_eq!((div_ceil(-3, 2), div_ceil(3, 2), div_ceil(4, 2)), (-1, 2, 2));
+    }
+
+    #[test]
     fn octile_matches_definition() {
         assert_eq!(octile(Cell::new(0, 0), Cell::new(3, 0)), 3.0);
         let d = octile(Cell::new(0, 0), Cell::new(3, 5));
         assert!((d - (2.0 + 3.0 * core::f32::consts::SQRT_2)).abs() < 1e-5);
-    }
-
-    #[test]
-    fn integer_division_helpers() {
-        assert_eq!(div_floor(-3, 2), -2);
-        assert_eq!(div_floor(3, 2), 1);
-        assert_eq!(div_ceil(-3, 2), -1);
-        assert_eq!(div_ceil(3, 2), 2);
-        assert_eq!(div_ceil(4, 2), 2);
     }
 }

@@ -112,8 +112,21 @@ fn same_direction(a: (f32, f32), b: (f32, f32)) -> bool {
     dot > 0.0 && cross.abs() <= 1e-6 * scale
 }
 
+/// Whether `b` lies on the segment from `a` to `c`, strictly between them: exactly, not
+/// within a tolerance. (A relative tolerance like that of [`turns`] let a node 8e-5 off a
+/// 340-cell chord go, moving the path by more than `TOUCH_EPS` towards an obstacle it
+/// had been clearing.) The differences of `f32` coordinates are exact in `f64` and the
+/// products carry a relative error below 1e-16, so "exactly" holds to that precision; the
+/// `f64` cost is paid once per node, off the planners' hot paths.
+fn continues_straight(a: Point, b: Point, c: Point) -> bool {
+    let (ux, uy) = (b.x as f64 - a.x as f64, b.y as f64 - a.y as f64);
+    let (vx, vy) = (c.x as f64 - b.x as f64, c.y as f64 - b.y as f64);
+    ux * vy == uy * vx && ux * vx + uy * vy > 0.0
+}
+
 /// Removes repeated waypoints and interior nodes that lie on a straight line with their
-/// neighbours (the patent's first pruning step). Never changes the path's shape.
+/// neighbours (the patent's first pruning step). Never changes the path's shape: only
+/// nodes exactly on the segment between their neighbours go, so a valid path stays valid.
 pub fn prune_collinear(path: &mut PathView) {
     let mut kept = 0usize;
     for i in 0..path.len() {
@@ -123,7 +136,7 @@ pub fn prune_collinear(path: &mut PathView) {
         }
         if kept >= 2 {
             let (a, b) = (path[kept - 2], path[kept - 1]);
-            if same_direction((b.x - a.x, b.y - a.y), (p.x - b.x, p.y - b.y)) {
+            if continues_straight(a, b, p) {
                 path[kept - 1] = p;
                 continue;
             }

@@ -4,9 +4,29 @@
 //! crate: an exact integer segment/square test (separating axes), a BFS over the 8-connected
 //! moves, and an `f64` Dijkstra. The crate's own `path::validate`, `segment_is_clear` and
 //! `line_of_sight` are only ever the things under test.
+//!
+//! Random maps are 1..=24 cells a side with obstacle density 0..0.5; endpoints may be
+//! blocked or up to two cells outside. What each property proves:
+//! - `planners_agree_with_oracles`: (a) A* and Theta* paths start and end at the requested
+//!   centres and pass the exact separating-axis validator; (b) Theta* <= A* + 1e-3;
+//!   (c) the error is `NoValidPath` exactly when BFS and `connected` say unreachable, and the
+//!   endpoint errors are the right variants in the documented order; (e) A* = `f64`
+//!   Dijkstra; (f) pruning and shortcutting the planners' paths keeps them valid and no
+//!   longer;
+//! - `labels_match_bfs_components`: (c) labels partition free cells as BFS does;
+//! - `pruning_keeps_random_walks_valid`, `pruning_keeps_fractional_paths_valid`: (f) on
+//!   walks with revisits, reversals and repeats, and on fractional (dyadic) waypoints;
+//! - `collision_checks_agree`: (d) `line_of_sight` = `segment_is_clear` on every pair of
+//!   cell centres (and = the exact validator on a sample);
+//! - `line_of_sight_on_large_maps`: (d) the same oracle on sparse maps up to 300 x 300;
+//! - `segment_is_clear_is_conservative`: on fractional points, accepted => exactly clear,
+//!   and a segment a whole cell away from everything is accepted;
+//! - `segment_clearance_matches_oracle`: clearance = an `f64` segment/square distance oracle;
+//! - `inflation_matches_oracle`: `inflate_into` blocks exactly the cells closer than `r`;
+//! - `parser_*`: (g) no panic on arbitrary or mutated input, and generated maps round-trip.
 
 use planner_core::PlanError;
-use planner_core::geometry::{Cell, Point, line_of_sight, segment_is_clear};
+use planner_core::geometry::{Cell, Point, line_of_sight, segment_clearance, segment_is_clear};
 use planner_core::grid::{Grid, words_for};
 use planner_core::path::{self, Path};
 use planner_core::search::{SearchNode, astar, connectivity, theta};
@@ -81,6 +101,30 @@ fn query_strategy() -> impl Strategy<Value = (Map, Cell, Cell)> {
     })
 }
 
+/// A map with a start and a goal on free cells (when the map has any).
+fn free_query_strategy() -> impl Strategy<Value = (Map, Cell, Cell)> {
+    (
+        map_strategy(),
+        any::<prop::sample::Index>(),
+        any::<prop::sample::Index>(),
+    )
+        .prop_map(|(m, i, j)| {
+            let free: Vec<Cell> = (0..m.h as u16)
+                .flat_map(|y| (0..m.w as u16).map(move |x| Cell::new(x, y)))
+                .filter(|c| !m.blocked(c.x as i64, c.y as i64))
+                .collect();
+            let pick = |k: prop::sample::Index| {
+                if free.is_empty() {
+                    Cell::new(0, 0)
+                } else {
+                    free[k.index(free.len())]
+                }
+            };
+            let (s, t) = (pick(i), pick(j));
+            (m, s, t)
+        })
+}
+
 // ---------------------------------------------------------------------------------------
 // Independent oracles.
 
@@ -147,6 +191,103 @@ fn check_path(m: &Map, p: &[Point], s: Cell, t: Cell) -> Result<(), String> {
         }
     }
     Ok(())
+}
+
+/// Fractional waypoints are generated on a grid of `1 / FRAC` (dyadic, so exact in `f32`),
+/// and the exact oracle works in units of `1 / FRAC`.
+const FRAC: i64 = 1 << 16;
+
+/// `p` in units of `1 / FRAC`; panics unless exact.
+fn scaled(p: Point) -> (i64, i64) {
+    let (x, y) = (p.x as f64 * FRAC as f64, p.y as f64 * FRAC as f64);
+    assert!(
+        x.fract() == 0.0 && y.fract() == 0.0,
+        "{p:?} is not on the 1/FRAC grid"
+    );
+    (x as i64, y as i64)
+}
+
+/// Exact: does the segment between `a` and `b` (units of `1 / FRAC`) touch the closed unit
+/// square of cell `c`? Separating axes, as in [`touches`].
+fn touches_scaled(a: (i64, i64), b: (i64, i64), c: (i64, i64)) -> bool {
+    touches_box(a, b, c, FRAC / 2)
+}
+
+/// Exact: does the segment touch the closed square of half-side `h` (units of `1 / FRAC`)
+/// centred on cell `c`?
+fn touches_box(a: (i64, i64), b: (i64, i64), c: (i64, i64), h: i64) -> bool {
+    let (x0, x1, y0, y1) = (
+        c.0 * FRAC - h,
+        c.0 * FRAC + h,
+        c.1 * FRAC - h,
+        c.1 * FRAC + h,
+    );
+    if a.0.max(b.0) < x0 || a.0.min(b.0) > x1 || a.1.max(b.1) < y0 || a.1.min(b.1) > y1 {
+        return false;
+    }
+    let side = |px: i64, py: i64| {
+        ((b.0 - a.0) as i128 * (py - a.1) as i128 - (b.1 - a.1) as i128 * (px - a.0) as i128)
+            .signum()
+    };
+    let s = [side(x0, y0), side(x1, y0), side(x0, y1), side(x1, y1)];
+    !(s.iter().all(|&v| v > 0) || s.iter().all(|&v| v < 0))
+}
+
+/// Exact rule for arbitrary (dyadic) points: the segment touches no blocked cell and no
+/// cell outside the map.
+fn segment_ok_frac(m: &Map, a: Point, b: Point) -> bool {
+    let (sa, sb) = (scaled(a), scaled(b));
+    let lo = |v: i64| v.div_euclid(FRAC) - 1;
+    let hi = |v: i64| v.div_euclid(FRAC) + 2;
+    for y in lo(sa.1.min(sb.1))..=hi(sa.1.max(sb.1)) {
+        for x in lo(sa.0.min(sb.0))..=hi(sa.0.max(sb.0)) {
+            if m.blocked(x, y) && touches_scaled(sa, sb, (x, y)) {
+                return false;
+            }
+        }
+    }
+    true
+}
+
+/// Least distance (f64) from segment `ab` to a blocked or outside cell's square, looking
+/// at cells up to `reach` away from the segment's bounding box; 0 when it touches one.
+fn clearance_oracle(m: &Map, a: Point, b: Point, reach: f64) -> f64 {
+    let (sa, sb) = (scaled(a), scaled(b));
+    let (a, b) = ((a.x as f64, a.y as f64), (b.x as f64, b.y as f64));
+    let point_seg = |p: (f64, f64)| {
+        let (dx, dy) = (b.0 - a.0, b.1 - a.1);
+        let len2 = dx * dx + dy * dy;
+        let t = if len2 > 0.0 {
+            (((p.0 - a.0) * dx + (p.1 - a.1) * dy) / len2).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        (p.0 - a.0 - t * dx).hypot(p.1 - a.1 - t * dy)
+    };
+    let point_square = |p: (f64, f64), c: (f64, f64)| {
+        let gx = ((p.0 - c.0).abs() - 0.5).max(0.0);
+        let gy = ((p.1 - c.1).abs() - 0.5).max(0.0);
+        gx.hypot(gy)
+    };
+    let r = reach.ceil() as i64 + 1;
+    let mut best = f64::INFINITY;
+    for y in a.1.min(b.1).floor() as i64 - r..=a.1.max(b.1).ceil() as i64 + r {
+        for x in a.0.min(b.0).floor() as i64 - r..=a.0.max(b.0).ceil() as i64 + r {
+            if !m.blocked(x, y) {
+                continue;
+            }
+            if touches_scaled(sa, sb, (x, y)) {
+                return 0.0;
+            }
+            let c = (x as f64, y as f64);
+            let mut d = point_square(a, c).min(point_square(b, c));
+            for (ox, oy) in [(-0.5, -0.5), (0.5, -0.5), (0.5, 0.5), (-0.5, 0.5)] {
+                d = d.min(point_seg((c.0 + ox, c.1 + oy)));
+            }
+            best = best.min(d);
+        }
+    }
+    best
 }
 
 fn len64(p: &[Point]) -> f64 {
@@ -268,7 +409,7 @@ fn oracle_sanity() {
 // Properties.
 
 proptest! {
-    #![proptest_config(Config { cases: 600, ..Config::default() })]
+    #![proptest_config(Config { cases: 1000, ..Config::default() })]
 
     /// (a) valid paths, (b) Theta* <= A*, (c) errors exactly as BFS/connectivity/endpoint
     /// checks say, (e) A* length = Dijkstra, (f) pruning keeps paths valid and not longer.
@@ -336,6 +477,48 @@ proptest! {
         }
     }
 
+    /// (c) Component labels partition the free cells exactly as BFS over the 8-connected
+    /// moves (no corner cutting) does, and the count is the number of BFS components.
+    #[test]
+    fn labels_match_bfs_components(m in map_strategy()) {
+        let grid = m.grid();
+        let g = grid.view();
+        let mut labels = vec![0u32; g.cells()];
+        let count = connectivity::label(g, &mut labels).unwrap();
+        let mut comp = vec![usize::MAX; m.w * m.h];
+        let mut components = 0;
+        for start in 0..m.w * m.h {
+            let (sx, sy) = ((start % m.w) as i64, (start / m.w) as i64);
+            if m.blocked(sx, sy) {
+                prop_assert_eq!(labels[start], connectivity::BLOCKED);
+                continue;
+            }
+            if comp[start] != usize::MAX {
+                continue;
+            }
+            comp[start] = components;
+            let mut queue = VecDeque::from([(sx, sy)]);
+            while let Some((x, y)) = queue.pop_front() {
+                for (nx, ny, _) in moves(&m, x, y) {
+                    let k = ny as usize * m.w + nx as usize;
+                    if comp[k] == usize::MAX {
+                        comp[k] = components;
+                        queue.push_back((nx, ny));
+                    }
+                }
+            }
+            components += 1;
+        }
+        prop_assert_eq!(count as usize, components);
+        for a in 0..m.w * m.h {
+            for b in 0..m.w * m.h {
+                if comp[a] != usize::MAX && comp[b] != usize::MAX {
+                    prop_assert_eq!(labels[a] == labels[b], comp[a] == comp[b]);
+                }
+            }
+        }
+    }
+
     /// (f) on arbitrary valid walks (revisits, reversals, repeated waypoints): pruning and
     /// shortcutting keep them valid and never make them longer.
     #[test]
@@ -387,9 +570,10 @@ proptest! {
         prop_assert!(len64(&q) <= before + 1e-4);
     }
 
-    /// (d) `line_of_sight` (integer) and `segment_is_clear` (f32) agree on every pair of
-    /// cell centres (including cells just outside the map), and a sample of pairs agrees
-    /// with the separating-axis oracle.
+    /// (d) `line_of_sight` (integer) and `segment_is_clear` agree on every pair of cell
+    /// centres (including cells just outside the map). Since `segment_is_clear` hands
+    /// centre-to-centre segments to `line_of_sight`, the real check is the second one:
+    /// `line_of_sight` = the separating-axis oracle from 6 random sources to every cell.
     #[test]
     fn collision_checks_agree(m in map_strategy(), seed in any::<u64>()) {
         let grid = m.grid();
@@ -405,15 +589,163 @@ proptest! {
             }
         }
         let mut rng = seed;
-        for _ in 0..300 {
+        for _ in 0..6 {
             rng = rng.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-            let a = cells[(rng >> 20) as usize % cells.len()];
-            let b = cells[(rng >> 42) as usize % cells.len()];
-            let on_map = |c: Cell| (c.x as usize) < m.w && (c.y as usize) < m.h;
-            let want = on_map(a)
-                && on_map(b)
-                && segment_ok(&m, (a.x as i64, a.y as i64), (b.x as i64, b.y as i64));
-            prop_assert_eq!(line_of_sight(g, a, b), want, "{:?} -> {:?}", a, b);
+            let a = cells[(rng >> 33) as usize % cells.len()];
+            for &b in &cells {
+                let on_map = |c: Cell| (c.x as usize) < m.w && (c.y as usize) < m.h;
+                let want = on_map(a)
+                    && on_map(b)
+                    && segment_ok(&m, (a.x as i64, a.y as i64), (b.x as i64, b.y as i64));
+                prop_assert_eq!(line_of_sight(g, a, b), want, "{:?} -> {:?}", a, b);
+                prop_assert_eq!(line_of_sight(g, b, a), want, "{:?} -> {:?}", b, a);
+            }
+        }
+    }
+
+    /// `segment_is_clear` is conservative: whenever it accepts a segment between
+    /// arbitrary (fractional, possibly off-map) points, the exact rule accepts it too.
+    /// And it is not absurdly strict: segments that stay a whole cell away from every
+    /// blocked cell and the border are accepted.
+    #[test]
+    fn segment_is_clear_is_conservative(
+        m in map_strategy(),
+        pts in proptest::collection::vec((-80i32..=24 * 64 + 80, -80i32..=24 * 64 + 80), 2..40),
+    ) {
+        let grid = m.grid();
+        let g = grid.view();
+        let p = |(x, y): (i32, i32)| Point::new(x as f32 / 64.0, y as f32 / 64.0);
+        for w in pts.windows(2) {
+            let (a, b) = (p(w[0]), p(w[1]));
+            let fast = segment_is_clear(g, a, b);
+            let exact = segment_ok_frac(&m, a, b);
+            prop_assert!(!fast || exact, "{:?} -> {:?}: f32 says clear, exact rule says not", a, b);
+            // A whole cell away from everything: the segment misses the 3 x 3 block
+            // around every blocked (or outside) cell.
+            let (sa, sb) = (scaled(a), scaled(b));
+            let lo = |v: i64| v.div_euclid(FRAC) - 3;
+            let hi = |v: i64| v.div_euclid(FRAC) + 4;
+            let far = (lo(sa.1.min(sb.1))..=hi(sa.1.max(sb.1))).all(|y| {
+                (lo(sa.0.min(sb.0))..=hi(sa.0.max(sb.0)))
+                    .all(|x| !m.blocked(x, y) || !touches_box(sa, sb, (x, y), 3 * FRAC / 2))
+            });
+            if far {
+                prop_assert!(fast, "{:?} -> {:?} is a cell away from everything", a, b);
+            }
+        }
+    }
+
+    /// (f) with fractional waypoints: a valid path (a planner's path with nodes nudged
+    /// off the grid and exact midpoints inserted) stays valid and not longer after
+    /// `prune_collinear` and `shortcut`, checked by both `validate` and the exact rule.
+    #[test]
+    fn pruning_keeps_fractional_paths_valid(
+        (m, s, t) in free_query_strategy(),
+        nudges in proptest::collection::vec((-19_000i32..19_000, -19_000i32..19_000, 0u8..4), 64),
+    ) {
+        let grid = m.grid();
+        let g = grid.view();
+        let mut nodes = vec![SearchNode::EMPTY; g.cells()];
+        let mut base = Buf::new();
+        if theta::plan(g, s, t, &mut nodes, &mut base).is_err() {
+            return Ok(()); // blocked or unreachable: covered elsewhere
+        }
+        let mut p: Vec<Point> = base.to_vec();
+        for (k, &(dx, dy, kind)) in nudges.iter().enumerate() {
+            if p.len() < 2 {
+                break;
+            }
+            let i = k % (p.len() - 1);
+            let (a, b) = (p[i], p[i + 1]);
+            match kind {
+                // Insert the exact midpoint (when on the 1/FRAC grid): collinear, removable.
+                0 => {
+                    let mid = Point::new((a.x + b.x) / 2.0, (a.y + b.y) / 2.0);
+                    let on_grid = |v: f32| (v as f64 * FRAC as f64).fract() == 0.0;
+                    if on_grid(mid.x) && on_grid(mid.y) {
+                        p.insert(i + 1, mid);
+                    }
+                }
+                // Nudge an interior node if both its segments stay valid.
+                _ if i > 0 => {
+                    let q = Point::new(
+                        a.x + dx as f32 / FRAC as f32,
+                        a.y + dy as f32 / FRAC as f32,
+                    );
+                    if segment_is_clear(g, p[i - 1], q) && segment_is_clear(g, q, b) {
+                        p[i] = q;
+                    }
+                }
+                _ => {}
+            }
+        }
+        let p: Buf = p.into_iter().collect();
+        prop_assert_eq!(path::validate(g, &p, s, t), Ok(()));
+        let exact_ok = |q: &[Point]| q.windows(2).all(|w| segment_ok_frac(&m, w[0], w[1]));
+        prop_assert!(exact_ok(&p));
+        let before = len64(&p);
+        let mut q = p.clone();
+        path::prune_collinear(&mut q);
+        prop_assert_eq!(path::validate(g, &q, s, t), Ok(()), "pruned {:?}", q);
+        prop_assert!(exact_ok(&q));
+        prop_assert!(len64(&q) <= before + 1e-4);
+        path::shortcut(g, &mut q);
+        prop_assert_eq!(path::validate(g, &q, s, t), Ok(()), "shortcut {:?}", q);
+        prop_assert!(exact_ok(&q));
+        prop_assert!(len64(&q) <= before + 1e-4);
+    }
+
+    /// `segment_clearance` equals an `f64` oracle (0 when the segment touches a blocked or
+    /// outside cell, else the least distance to such a cell's square), capped at `max`.
+    #[test]
+    fn segment_clearance_matches_oracle(
+        (m, pts) in map_strategy().prop_flat_map(|m| {
+            // Mostly on the map, sometimes a little off it (units of 1/64 cell).
+            let (w, h) = (m.w as i32 * 64, m.h as i32 * 64);
+            let pts = proptest::collection::vec((-48..w + 16, -48..h + 16), 2..12);
+            (Just(m), pts)
+        }),
+        max in 0.0f32..6.0,
+    ) {
+        let grid = m.grid();
+        let g = grid.view();
+        let p = |(x, y): (i32, i32)| Point::new(x as f32 / 64.0, y as f32 / 64.0);
+        for w in pts.windows(2) {
+            let (a, b) = (p(w[0]), p(w[1]));
+            let got = segment_clearance(g, a, b, max);
+            let want = clearance_oracle(&m, a, b, max as f64 + 2.0).min(max as f64);
+            prop_assert!(
+                (got as f64 - want).abs() <= 1e-4,
+                "{:?} -> {:?} max {}: got {}, want {}", a, b, max, got, want
+            );
+        }
+    }
+
+    /// `inflate_into` blocks exactly the cells that are blocked or whose square comes closer
+    /// than the radius to a blocked or outside cell's square (radii k/8: exact in `f32`).
+    #[test]
+    fn inflation_matches_oracle(m in map_strategy(), k in 0u32..=24) {
+        let r = k as f64 / 8.0;
+        let grid = m.grid();
+        let mut out = G::new(1, 1).unwrap();
+        grid.inflate_into(r as f32, &mut out).unwrap();
+        let v = out.view();
+        prop_assert_eq!((v.width(), v.height()), (m.w, m.h));
+        let reach = r.ceil() as i64 + 1;
+        for y in 0..m.h as i64 {
+            for x in 0..m.w as i64 {
+                let mut want = m.blocked(x, y);
+                for dy in -reach..=reach {
+                    for dx in -reach..=reach {
+                        let gx = (dx.abs() - 1).max(0) as f64;
+                        let gy = (dy.abs() - 1).max(0) as f64;
+                        if m.blocked(x + dx, y + dy) && gx.hypot(gy) < r {
+                            want = true;
+                        }
+                    }
+                }
+                prop_assert_eq!(v.is_blocked(x as isize, y as isize), want, "({}, {}) r {}", x, y, r);
+            }
         }
     }
 
@@ -470,5 +802,37 @@ proptest! {
             prop_assert!(v.width() >= 1 && v.height() >= 1 && v.cells() <= G::CAPACITY);
         }
         let _ = G::parse_rows(&bytes);
+    }
+}
+
+proptest! {
+    #![proptest_config(Config { cases: 256, ..Config::default() })]
+
+    /// (d) on maps up to 300 x 300 with sparse obstacles: long and steep lines, checked
+    /// against the separating-axis oracle over every blocked cell.
+    #[test]
+    fn line_of_sight_on_large_maps(
+        (w, h, cells, pairs) in (1usize..=300, 1usize..=300, 0.0..0.05f64).prop_flat_map(|(w, h, d)| {
+            let n = ((w * h) as f64 * d) as usize;
+            (
+                Just(w),
+                Just(h),
+                proptest::collection::vec((0..w as u16, 0..h as u16), n),
+                proptest::collection::vec((0..w as u16, 0..h as u16, 0..w as u16, 0..h as u16), 100),
+            )
+        }),
+    ) {
+        let mut grid: Box<Grid<{ words_for(300, 300) }>> = Box::new(Grid::new(w, h).unwrap());
+        for &(x, y) in &cells {
+            grid.set_blocked(x as usize, y as usize, true).unwrap();
+        }
+        let g = grid.view();
+        for (ax, ay, bx, by) in pairs {
+            let (a, b) = ((ax as i64, ay as i64), (bx as i64, by as i64));
+            let want = cells.iter().all(|&(x, y)| !touches(a, b, (x as i64, y as i64)));
+            let (ca, cb) = (Cell::new(ax, ay), Cell::new(bx, by));
+            prop_assert_eq!(line_of_sight(g, ca, cb), want, "{:?} -> {:?}", ca, cb);
+            prop_assert_eq!(line_of_sight(g, cb, ca), want, "{:?} -> {:?}", cb, ca);
+        }
     }
 }

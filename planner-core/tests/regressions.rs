@@ -49,3 +49,111 @@ fn point_cell_sends_ties_to_the_lower_index() {
     assert_eq!(Point::new(-0.5, 0.0).cell(v), None);
     assert_eq!(Point::new(f32::NAN, 0.0).cell(v), None);
 }
+
+/// The planners no longer clear all search nodes per query: they reset what they touched
+/// on every exit. After an early error (path buffer too small, mid-way through writing the
+/// path) and after interleaved A* / Theta* runs, the same storage still gives the answers
+/// of fresh storage. (Test builds also `debug_assert` that storage is clean on entry.)
+#[test]
+fn search_storage_is_clean_after_every_exit() {
+    use planner_core::PlanError;
+    use planner_core::path::Path;
+    use planner_core::search::{SearchNode, astar, theta};
+    let g = Grid::<{ words_for(8, 6) }>::parse_rows(
+        b"........\n.@@@@@..\n......@.\n.@@@@.@.\n.@....@.\n...@@...\n",
+    )
+    .unwrap();
+    let v = g.view();
+    let (s, t) = (Cell::new(0, 0), Cell::new(7, 5));
+    let mut reused = vec![SearchNode::EMPTY; v.cells()];
+    let mut tiny: Path<3> = Path::new();
+    for _ in 0..3 {
+        assert_eq!(
+            astar::plan(v, s, t, &mut reused, &mut tiny),
+            Err(PlanError::CapacityExceeded)
+        );
+        assert_eq!(
+            theta::plan(v, Cell::new(2, 4), t, &mut reused, &mut tiny),
+            Err(PlanError::CapacityExceeded)
+        );
+        for (a, b) in [(s, t), (t, s), (Cell::new(2, 4), Cell::new(7, 0))] {
+            let (mut p1, mut p2): (Path<64>, Path<64>) = (Path::new(), Path::new());
+            let mut fresh = vec![SearchNode::EMPTY; v.cells()];
+            assert_eq!(
+                astar::plan(v, a, b, &mut reused, &mut p1),
+                astar::plan(v, a, b, &mut fresh, &mut p2)
+            );
+            assert_eq!(p1, p2);
+            let mut fresh = vec![SearchNode::EMPTY; v.cells()];
+            assert_eq!(
+                theta::plan(v, a, b, &mut reused, &mut p1),
+                theta::plan(v, a, b, &mut fresh, &mut p2)
+            );
+            assert_eq!(p1, p2);
+        }
+    }
+}
+
+/// `prune_collinear` merged "collinear" nodes with a relative tolerance of 1e-6, so on a
+/// warehouse-sized map it removed a node 8e-5 off the chord: the valid path
+/// (0, y0) -> (170, y0 - 8e-5) -> (340, y0), which clears the blocked cell (170, 2) by
+/// 1.5e-4, became the chord at y0 = 1.5 - 7e-5, which `validate` rejects (it passes within
+/// `TOUCH_EPS` of the cell). The doc promises the shape never changes: only exactly
+/// collinear nodes may go.
+#[test]
+fn prune_collinear_keeps_a_bend_that_avoids_an_obstacle() {
+    use planner_core::path::{self, Path};
+    let mut g = Grid::<{ words_for(341, 5) }>::new(341, 5).unwrap();
+    g.set_blocked(170, 2, true).unwrap();
+    let v = g.view();
+    let y0 = 1.5f32 - 7e-5;
+    let mut p: Path<4> = [
+        Point::new(0.0, y0),
+        Point::new(170.0, y0 - 8e-5),
+        Point::new(340.0, y0),
+    ]
+    .into_iter()
+    .collect();
+    let valid = |p: &[Point]| p.windows(2).all(|w| segment_is_clear(v, w[0], w[1]));
+    assert!(valid(&p));
+    path::prune_collinear(&mut p);
+    assert_eq!(p.len(), 3, "{p:?}");
+    assert!(valid(&p));
+    // Exactly collinear nodes (also fractional ones) still go.
+    let mut q: Path<4> = [
+        Point::new(0.0, 0.5),
+        Point::new(100.0, 1.0),
+        Point::new(200.0, 1.5),
+    ]
+    .into_iter()
+    .collect();
+    path::prune_collinear(&mut q);
+    assert_eq!(&q[..], &[Point::new(0.0, 0.5), Point::new(200.0, 1.5)]);
+}
+
+/// `segment_clearance` scanned only the ring of outside cells next to the map, so for a
+/// segment with an end beyond that ring it returned the distance to the ring instead of 0
+/// (the segment touches outside cells, which count as blocked). Found by the property
+/// test `segment_clearance_matches_oracle`.
+#[test]
+fn segment_clearance_is_zero_off_the_map() {
+    use planner_core::geometry::segment_clearance;
+    let g = Grid::<{ words_for(3, 3) }>::new(3, 3).unwrap();
+    let v = g.view();
+    let c = |a: (f32, f32), b: (f32, f32)| {
+        segment_clearance(v, Point::new(a.0, a.1), Point::new(b.0, b.1), 5.0)
+    };
+    assert_eq!(c((-3.0, 0.0), (-3.0, 2.0)), 0.0); // was 1.5
+    assert_eq!(c((1.0, 1.0), (9.0, 1.0)), 0.0); // ends beyond the ring
+    assert_eq!(c((1.0, 1.0), (1.0, 2.5)), 0.0); // ends on the map's edge
+    let tiny = Grid::<1>::new(1, 1).unwrap();
+    let d = segment_clearance(
+        tiny.view(),
+        Point::new(0.0, 1.59375),
+        Point::new(18.53125, 0.4375),
+        4.0,
+    );
+    assert_eq!(d, 0.0); // was 1.6e-4
+    // On the map nothing changes: the centre of a free 3 x 3 map is 1.5 from the outside.
+    assert_eq!(c((1.0, 1.0), (1.0, 1.0)), 1.5);
+}

@@ -11,7 +11,8 @@ use crate::geometry::{Cell, Point};
 use crate::grid::GridRef;
 use crate::optim::random::Random;
 use crate::path::{self, PathView};
-use crate::search::{MOVES, check_endpoints, connectivity, move_allowed};
+use crate::encoding::walk::CornerRule;
+use crate::search::{MOVES, check_endpoints, connectivity};
 
 use super::{PlanReport, PlanStop};
 
@@ -145,7 +146,7 @@ pub fn plan(
                 for (m, (dx, dy, _)) in MOVES.iter().enumerate() {
                     let (x, y) = (cur.x as isize, cur.y as isize);
                     let (dx, dy) = (*dx as isize, *dy as isize);
-                    if !move_allowed(grid, x, y, dx, dy) {
+                    if !CornerRule::Strict.allows(grid, x, y, dx, dy) {
                         continue;
                     }
                     let next = Cell::new((x + dx) as u16, (y + dy) as u16);

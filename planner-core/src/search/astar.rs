@@ -3,7 +3,7 @@
 //! optimal). Ties on `f` prefer the larger `g`, which expands fewer cells on open floors.
 
 use super::{
-    MOVES, Open, SearchNode, SearchStats, check_endpoints, connectivity, move_allowed, octile_xy,
+    MOVES, Open, SearchNode, SearchStats, allowed_moves, check_endpoints, connectivity, octile_xy,
 };
 use crate::error::PlanError;
 use crate::geometry::Cell;
@@ -14,7 +14,7 @@ use crate::path::PathView;
 /// along it into `out` (start first).
 ///
 /// `nodes` needs one entry per map cell. Errors: the endpoint checks of
-/// [`check_endpoints`](super::check_endpoints), [`PlanError::CapacityExceeded`] when `nodes`
+/// [`check_endpoints`], [`PlanError::CapacityExceeded`] when `nodes`
 /// or `out` is too small, [`PlanError::NoValidPath`] when the goal is unreachable.
 pub fn plan(
     grid: GridRef<'_>,
@@ -65,16 +65,14 @@ pub fn plan_with_labels(
         }
         let (x, y) = ((i as isize) % width, (i as isize) / width);
         let g = open.g(i);
-        for (dx, dy, cost) in MOVES {
+        let mut moves = allowed_moves(grid, x, y);
+        while moves != 0 {
+            let (dx, dy, cost) = MOVES[moves.trailing_zeros() as usize];
+            moves &= moves - 1;
             let (dx, dy) = (dx as isize, dy as isize);
-            if !move_allowed(grid, x, y, dx, dy) {
-                continue;
-            }
             let (nx, ny) = (x + dx, y + dy);
             let j = (ny * width + nx) as usize;
-            if open.is_closed(j) {
-                continue;
-            }
+            // `relax` ignores closed cells.
             open.relax(j, g + cost, octile_xy(nx, ny, gx, gy), i);
         }
     }

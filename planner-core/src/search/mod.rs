@@ -31,17 +31,21 @@ use crate::geometry::{Cell, Point};
 use crate::grid::GridRef;
 use crate::path::PathView;
 
-/// Per-cell search state. Keep one per map cell; the contents between calls are scratch.
+/// Per-cell search state. Keep one per map cell. Planners leave every node as they found
+/// it (reset), so storage is never cleared in O(cells) between calls.
 #[derive(Clone, Copy, Debug)]
 pub struct SearchNode {
     g: f32,
-    f: f32,
     parent: u32,
     /// Position of this cell in the open heap while open.
     heap_pos: u32,
-    /// The binary heap of open cells is stored in this field across the node array: slot
-    /// `i` of the heap is `nodes[i].heap_slot`. Reusing the array saves a second buffer.
-    heap_slot: u32,
+    /// Slot `i` of the open heap (or of the stack of closed cells, which grows down from
+    /// the end of the array) is stored in `nodes[i]`: the cell and, for the heap, its key
+    /// `(f, g)`, so that heap comparisons read consecutive slots instead of random cells.
+    /// Reusing the array saves a second buffer.
+    slot_f: u32,
+    slot_g: u32,
+    slot_cell: u32,
     state: NodeState,
 }
 
@@ -56,10 +60,11 @@ impl SearchNode {
     /// An unused node (for array initialisers).
     pub const EMPTY: SearchNode = SearchNode {
         g: 0.0,
-        f: 0.0,
         parent: 0,
         heap_pos: 0,
-        heap_slot: 0,
+        slot_f: 0,
+        slot_g: 0,
+        slot_cell: 0,
         state: NodeState::New,
     };
 }
@@ -107,11 +112,54 @@ pub(crate) const MOVES: [(i8, i8, f32); 8] = [
     (-1, -1, core::f32::consts::SQRT_2),
 ];
 
-/// Whether the 8-connected move from `(x, y)` by `(dx, dy)` is allowed (no corner cutting).
+/// The free cells of the 3 x 3 block around `(x, y)`: bit `3 (dy + 1) + (dx + 1)` is set
+/// when `(x + dx, y + dy)` is on the map and free. Read once per expansion, so the eight
+/// moves cost nine grid lookups instead of sixteen.
 #[inline]
-pub(crate) fn move_allowed(grid: GridRef<'_>, x: isize, y: isize, dx: isize, dy: isize) -> bool {
-    !grid.is_blocked(x + dx, y + dy)
-        && (dx == 0 || dy == 0 || (!grid.is_blocked(x + dx, y) && !grid.is_blocked(x, y + dy)))
+fn free_around(grid: GridRef<'_>, x: isize, y: isize) -> u16 {
+    let mut mask = 0;
+    for dy in -1..=1 {
+        for dx in -1..=1 {
+            if !grid.is_blocked(x + dx, y + dy) {
+                mask |= 1 << (3 * (dy + 1) + dx + 1);
+            }
+        }
+    }
+    mask
+}
+
+/// Whether the 8-connected move by `(dx, dy)` is allowed (no corner cutting), given the
+/// [`free_around`] mask of the cell it starts from.
+const fn move_allowed(free: u16, dx: isize, dy: isize) -> bool {
+    const fn is_free(free: u16, dx: isize, dy: isize) -> bool {
+        free & (1 << (3 * (dy + 1) + dx + 1)) != 0
+    }
+    is_free(free, dx, dy) && (dx == 0 || dy == 0 || (is_free(free, dx, 0) && is_free(free, 0, dy)))
+}
+
+/// For every [`free_around`] mask, the allowed moves: bit `k` set when `MOVES[k]` is.
+/// A table lookup instead of eight data-dependent branches per expansion.
+static ALLOWED: [u8; 512] = {
+    let mut table = [0u8; 512];
+    let mut free = 0;
+    while free < 512 {
+        let mut k = 0;
+        while k < MOVES.len() {
+            if move_allowed(free as u16, MOVES[k].0 as isize, MOVES[k].1 as isize) {
+                table[free] |= 1 << k;
+            }
+            k += 1;
+        }
+        free += 1;
+    }
+    table
+};
+
+/// The moves allowed from `(x, y)`: bit `k` set when `MOVES[k]` is. Visit them in
+/// ascending `k` (the order of [`MOVES`]).
+#[inline]
+pub(crate) fn allowed_moves(grid: GridRef<'_>, x: isize, y: isize) -> u8 {
+    ALLOWED[free_around(grid, x, y) as usize & 511]
 }
 
 /// The checks every planner makes before searching, in the order of [`PlanError`].
@@ -132,18 +180,60 @@ pub fn check_endpoints(grid: GridRef<'_>, start: Cell, goal: Cell) -> Result<(),
 }
 
 /// The open list: an indexed binary min-heap on `(f, -g)` stored inside the node array.
+///
+/// Every node is `New` when the list is created and again when it is dropped: the cells
+/// it touched are exactly those in the heap (slots `0..len`) and those on the closed stack
+/// (slots `n - closed..n`; `len + closed` never exceeds the number of cells opened), so
+/// dropping resets them in O(touched) instead of clearing all cells on every query.
 pub(crate) struct Open<'n> {
     nodes: &'n mut [SearchNode],
     len: usize,
+    closed: usize,
+}
+
+/// A heap entry: the cell and its key, `(f, g)` packed into one integer so that the heap
+/// order "least `f`, ties to the largest `g`" is a single unsigned comparison.
+///
+/// Costs are never negative (nor NaN), and for such `f32` values the bit patterns order
+/// like the values (and `+0.0` is the only zero that arises), so `key(a) < key(b)` is
+/// exactly `a.f < b.f || (a.f == b.f && a.g > b.g)`.
+#[derive(Clone, Copy)]
+struct Entry {
+    key: u64,
+    cell: u32,
+}
+
+impl Entry {
+    #[inline]
+    fn new(f: f32, g: f32, cell: usize) -> Self {
+        debug_assert!(f >= 0.0 && g >= 0.0);
+        Entry {
+            key: pack(f.to_bits(), !g.to_bits()),
+            cell: cell as u32,
+        }
+    }
+
+    /// Heap order: least `f`, ties to the largest `g`.
+    #[inline]
+    fn less(&self, other: &Entry) -> bool {
+        self.key < other.key
+    }
+}
+
+#[inline]
+fn pack(hi: u32, lo: u32) -> u64 {
+    (hi as u64) << 32 | lo as u64
 }
 
 impl<'n> Open<'n> {
-    /// Resets every node (O(cells), a memset-like pass) and returns an empty open list.
+    /// An empty open list over `nodes`, which must all be `New` (as planners leave them).
     pub(crate) fn new(nodes: &'n mut [SearchNode]) -> Self {
-        for n in nodes.iter_mut() {
-            n.state = NodeState::New;
+        debug_assert!(nodes.iter().all(|n| n.state == NodeState::New));
+        Open {
+            nodes,
+            len: 0,
+            closed: 0,
         }
-        Open { nodes, len: 0 }
     }
 
     pub(crate) fn node(&self, i: usize) -> &SearchNode {
@@ -159,29 +249,22 @@ impl<'n> Open<'n> {
     }
 
     /// Opens cell `i` or lowers its cost; ignores closed cells and worse costs.
+    #[inline]
     pub(crate) fn relax(&mut self, i: usize, g: f32, h: f32, parent: usize) {
         let node = &mut self.nodes[i];
-        match node.state {
-            NodeState::Closed => {}
-            NodeState::Open if g >= node.g => {}
-            NodeState::Open => {
-                node.g = g;
-                node.f = g + h;
-                node.parent = parent as u32;
-                let pos = node.heap_pos as usize;
-                self.sift_up(pos);
-            }
+        let pos = match node.state {
+            NodeState::Closed => return,
+            NodeState::Open if g >= node.g => return,
+            NodeState::Open => node.heap_pos as usize,
             NodeState::New => {
-                node.g = g;
-                node.f = g + h;
-                node.parent = parent as u32;
                 node.state = NodeState::Open;
-                let pos = self.len;
                 self.len += 1;
-                self.place(pos, i);
-                self.sift_up(pos);
+                self.len - 1
             }
-        }
+        };
+        node.g = g;
+        node.parent = parent as u32;
+        self.sift_up(pos, Entry::new(g + h, g, i));
     }
 
     /// Takes the open cell of least `f` (ties: largest `g`) and closes it.
@@ -189,66 +272,84 @@ impl<'n> Open<'n> {
         if self.len == 0 {
             return None;
         }
-        let top = self.nodes[0].heap_slot as usize;
+        let top = self.nodes[0].slot_cell as usize;
         self.len -= 1;
         if self.len > 0 {
-            let last = self.nodes[self.len].heap_slot as usize;
-            self.place(0, last);
-            self.sift_down(0);
+            let last = self.entry(self.len);
+            self.sift_down(0, last);
         }
         self.nodes[top].state = NodeState::Closed;
+        self.closed += 1;
+        let n = self.nodes.len();
+        self.nodes[n - self.closed].slot_cell = top as u32;
         Some(top)
     }
 
-    fn place(&mut self, pos: usize, cell: usize) {
-        self.nodes[pos].heap_slot = cell as u32;
-        self.nodes[cell].heap_pos = pos as u32;
+    #[inline]
+    fn entry(&self, pos: usize) -> Entry {
+        let slot = &self.nodes[pos];
+        Entry {
+            key: pack(slot.slot_f, slot.slot_g),
+            cell: slot.slot_cell,
+        }
     }
 
-    fn less(&self, a: usize, b: usize) -> bool {
-        let (na, nb) = (&self.nodes[a], &self.nodes[b]);
-        na.f < nb.f || (na.f == nb.f && na.g > nb.g)
+    #[inline]
+    fn place(&mut self, pos: usize, e: Entry) {
+        let slot = &mut self.nodes[pos];
+        slot.slot_f = (e.key >> 32) as u32;
+        slot.slot_g = e.key as u32;
+        slot.slot_cell = e.cell;
+        self.nodes[e.cell as usize].heap_pos = pos as u32;
     }
 
-    fn sift_up(&mut self, mut pos: usize) {
-        let cell = self.nodes[pos].heap_slot as usize;
+    /// Moves `e`, to be stored at `pos`, up to its place.
+    fn sift_up(&mut self, mut pos: usize, e: Entry) {
         while pos > 0 {
             let parent_pos = (pos - 1) / 2;
-            let parent = self.nodes[parent_pos].heap_slot as usize;
-            if !self.less(cell, parent) {
+            let parent = self.entry(parent_pos);
+            if !e.less(&parent) {
                 break;
             }
             self.place(pos, parent);
             pos = parent_pos;
         }
-        self.place(pos, cell);
+        self.place(pos, e);
     }
 
-    fn sift_down(&mut self, mut pos: usize) {
-        let cell = self.nodes[pos].heap_slot as usize;
+    /// Moves `e`, to be stored at `pos`, down to its place.
+    ///
+    /// Floyd's variant: the hole first runs down the path of least children to the bottom
+    /// (one comparison per level, not two), then `e` climbs back while its parent is not
+    /// less than it. Along that path the keys never decrease, so `e` ends exactly where
+    /// the textbook sift-down (stop at the first child not less than `e`) puts it, and the
+    /// heap, hence the order of expansion, is the same.
+    fn sift_down(&mut self, mut pos: usize, e: Entry) {
+        let start = pos;
         loop {
             let left = 2 * pos + 1;
             if left >= self.len {
                 break;
             }
-            let mut child = left;
+            // Which child is less is a coin toss for the branch predictor: select it by
+            // arithmetic on the index, not by a branch.
             let right = left + 1;
-            if right < self.len
-                && self.less(
-                    self.nodes[right].heap_slot as usize,
-                    self.nodes[left].heap_slot as usize,
-                )
-            {
-                child = right;
-            }
-            let child_cell = self.nodes[child].heap_slot as usize;
-            if !self.less(child_cell, cell) {
-                break;
-            }
-            self.place(pos, child_cell);
+            let take_right = right < self.len && self.entry(right).less(&self.entry(left));
+            let child = left + take_right as usize;
+            let child_entry = self.entry(child);
+            self.place(pos, child_entry);
             pos = child;
         }
-        self.place(pos, cell);
+        while pos > start {
+            let parent_pos = (pos - 1) / 2;
+            let parent = self.entry(parent_pos);
+            if parent.less(&e) {
+                break;
+            }
+            self.place(pos, parent);
+            pos = parent_pos;
+        }
+        self.place(pos, e);
     }
 
     /// Writes the parent chain from `goal` back to `start` into `out`, start first.
@@ -276,6 +377,17 @@ impl<'n> Open<'n> {
         }
         out.reverse();
         Ok(())
+    }
+}
+
+impl Drop for Open<'_> {
+    /// Resets every touched node to `New` (runs on every exit of a planner).
+    fn drop(&mut self) {
+        let n = self.nodes.len();
+        for pos in (0..self.len).chain(n - self.closed..n) {
+            let cell = self.nodes[pos].slot_cell as usize;
+            self.nodes[cell].state = NodeState::New;
+        }
     }
 }
 

@@ -6,7 +6,7 @@
 //! the first time the goal is closed its cost is at most the octile optimum.
 
 use super::{
-    MOVES, Open, SearchNode, SearchStats, check_endpoints, connectivity, euclid_xy, move_allowed,
+    MOVES, Open, SearchNode, SearchStats, allowed_moves, check_endpoints, connectivity, euclid_xy,
 };
 use crate::error::PlanError;
 use crate::geometry::{Cell, line_of_sight};
@@ -67,11 +67,11 @@ pub fn plan_with_labels(
         let parent = open.node(i).parent as usize;
         let (px, py) = ((parent as isize) % width, (parent as isize) / width);
         let (g, g_parent) = (open.g(i), open.g(parent));
-        for (dx, dy, cost) in MOVES {
+        let mut moves = allowed_moves(grid, x, y);
+        while moves != 0 {
+            let (dx, dy, cost) = MOVES[moves.trailing_zeros() as usize];
+            moves &= moves - 1;
             let (dx, dy) = (dx as isize, dy as isize);
-            if !move_allowed(grid, x, y, dx, dy) {
-                continue;
-            }
             let (nx, ny) = (x + dx, y + dy);
             let j = (ny * width + nx) as usize;
             if open.is_closed(j) {
