@@ -92,6 +92,10 @@ impl FromStr for AlgorithmKind {
 }
 
 /// Any optimizer with its default (paper) parameters, behind one type.
+///
+/// Its size is that of the largest variant, PSO (positions, velocities and personal bests:
+/// about `3 N D` floats, 23 KiB at `N = 30`, `D = 64`); firmware that needs one algorithm
+/// should hold that type directly (HHO or GWO: about `N D` floats).
 #[derive(Debug, Clone)]
 #[allow(clippy::large_enum_variant)]
 pub enum AnyOptimizer<const N: usize, const D: usize> {

@@ -168,13 +168,15 @@ impl<const N: usize, const D: usize> Optimizer for SsaGwoPso<N, D> {
                 .zip(x.iter().zip(&alpha))
                 .enumerate()
             {
-                let r1 = sw.rng.unit();
+                // r1 belongs to the cognitive term c1 r1 (p - x), which is zero here (the
+                // population holds each member's best, p = x); it is drawn all the same so the
+                // draws follow the equation.
+                let _r1 = sw.rng.unit();
                 let r2 = sw.rng.unit();
                 let width = sw.bounds.upper().get(d).copied().unwrap_or(0.0)
                     - sw.bounds.lower().get(d).copied().unwrap_or(0.0);
                 let vmax = p.vmax_fraction * width;
-                // p - x is zero: the population holds each member's best.
-                let nv = p.w * *v + p.c1 * r1 * (xd - xd) + p.c2 * r2 * (g - xd);
+                let nv = p.w * *v + p.c2 * r2 * (g - xd);
                 *v = nv.max(-vmax).min(vmax);
                 *c = xd + *v;
             }
