@@ -109,7 +109,7 @@ pub(crate) fn sparrow_step<const N: usize, const D: usize, O: Objective + ?Sized
     copy(&mut worst, pop.position(worst_index));
     let worst_cost = pop.cost(worst_index);
     let mut cand = [0.0f32; D];
-    let producers = count(params.producers, n).clamp(1, n);
+    let producers = count(params.producers, n).max(1).min(n);
 
     let alarm = rng.unit();
     for (rank, &i) in order.iter().enumerate().take(producers) {
