@@ -211,12 +211,34 @@ impl<const N: usize, const D: usize> Gwo<N, D> {
         bounds: &Bounds<D>,
         params: GwoParams,
     ) -> Result<Self, OptimError> {
-        params.validate()?;
-        Ok(Self {
-            swarm: Swarm::new(settings, bounds, 3)?,
-            params,
+        let mut s = Self::unconfigured();
+        s.configure(settings, bounds, params)?;
+        Ok(s)
+    }
+
+    /// An unconfigured instance for `const`/`static` initialisers (firmware keeps the state
+    /// in a `static` and calls [`configure`](Self::configure) on it, so no large temporary
+    /// passes through the stack); `init` fails until it is configured.
+    pub const fn unconfigured() -> Self {
+        Self {
+            swarm: Swarm::unconfigured(),
+            params: GwoParams::gwo(),
             leaders: Leaders::new(),
-        })
+        }
+    }
+
+    /// Validates and takes a configuration in place (needs at least 3 members); on
+    /// error nothing changes. Call [`Optimizer::init`] next.
+    pub fn configure(
+        &mut self,
+        settings: Settings,
+        bounds: &Bounds<D>,
+        params: GwoParams,
+    ) -> Result<(), OptimError> {
+        params.validate()?;
+        self.swarm.configure(settings, bounds, 3)?;
+        self.params = params;
+        Ok(())
     }
 
     /// The current leaders.
