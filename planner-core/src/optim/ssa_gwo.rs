@@ -111,7 +111,14 @@ impl<const N: usize, const D: usize> SsaGwo<N, D> {
         let dim = sw.dim();
         let mut cand = [0.0f32; D];
         for i in 0..sw.n() {
-            hunt(sw.pop.position(i), &self.leaders, a, &mut sw.rng, &mut cand);
+            hunt(
+                sw.pop.position(i),
+                &self.leaders,
+                a,
+                &mut sw.rng,
+                &mut cand,
+                false,
+            );
             let c = cand.get_mut(..dim).unwrap_or(&mut []);
             let cost = sw.clamp_and_evaluate(objective, c);
             if cost < sw.pop.cost(i) {
