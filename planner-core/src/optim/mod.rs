@@ -296,6 +296,25 @@ pub struct Report {
 /// Firmware calls [`init`](Optimizer::init) once, then [`step`](Optimizer::step) in time slices
 /// and reads [`best_cost`](Optimizer::best_cost) between them; hosts call
 /// [`run`](Optimizer::run).
+///
+/// ```
+/// use planner_core::optim::{Bounds, Optimizer, Settings};
+/// use planner_core::optim::ssa_gwo::{SsaGwo, SsaGwoParams};
+///
+/// // Firmware keeps this in a `static`; `unconfigured` is `const`.
+/// let mut opt = SsaGwo::<30, 64>::unconfigured();
+/// let bounds = Bounds::<64>::uniform(12, -1.0, 1.0)?;
+/// opt.configure(Settings { population: 30, iterations: 100, seed: 42 }, &bounds, SsaGwoParams::seed_001())?;
+/// let mut cost = |x: &[f32]| x.iter().map(|v| (v - 0.25).abs()).sum::<f32>();
+/// opt.init(&mut cost, None)?;
+/// while opt.iteration() < opt.horizon() {
+///     // one time slice
+///     opt.step(&mut cost)?;
+/// }
+/// assert!(opt.best_cost() < 1e-2);
+/// assert_eq!(opt.best_position().len(), 12);
+/// # Ok::<(), planner_core::optim::OptimError>(())
+/// ```
 pub trait Optimizer {
     /// Builds and evaluates the initial population, replacing the generated rows by the
     /// caller's `initial` rows if given (each of length `dim`, clamped into the box; at most
