@@ -92,6 +92,10 @@ impl FromStr for AlgorithmKind {
 }
 
 /// Any optimizer with its default (paper) parameters, behind one type.
+///
+/// Its size is that of the largest variant, PSO (positions, velocities and personal bests:
+/// about `3 N D` floats, 23 KiB at `N = 30`, `D = 64`); firmware that needs one algorithm
+/// should hold that type directly (HHO or GWO: about `N D` floats).
 #[derive(Debug, Clone)]
 #[allow(clippy::large_enum_variant)]
 pub enum AnyOptimizer<const N: usize, const D: usize> {
@@ -129,6 +133,45 @@ impl<const N: usize, const D: usize> AnyOptimizer<N, D> {
             AlgorithmKind::Pso => Self::Pso(Pso::new(settings, bounds, PsoParams::seed_003())?),
             AlgorithmKind::Ga => Self::Ga(Ga::new(settings, bounds, GaParams::seed_003())?),
         })
+    }
+}
+
+impl<const N: usize, const D: usize> AnyOptimizer<N, D> {
+    /// An unconfigured optimizer for `const`/`static` initialisers (an unconfigured HHO).
+    pub const fn unconfigured() -> Self {
+        Self::Hho(Hho::unconfigured())
+    }
+
+    /// Configures `kind` with its default parameters in place when the current variant is of
+    /// the same family (HHO/TCLHHO, GWO/TGWO/IGWO, ...); switching family replaces the
+    /// variant, which builds the new one on the stack first. On error nothing changes.
+    pub fn configure(
+        &mut self,
+        kind: AlgorithmKind,
+        settings: Settings,
+        bounds: &Bounds<D>,
+    ) -> Result<(), OptimError> {
+        match (self, kind) {
+            (Self::Hho(o), AlgorithmKind::Hho) => o.configure(settings, bounds, HhoParams::hho()),
+            (Self::Hho(o), AlgorithmKind::Tclhho) => {
+                o.configure(settings, bounds, HhoParams::tclhho())
+            }
+            (Self::Gwo(o), AlgorithmKind::Gwo) => o.configure(settings, bounds, GwoParams::gwo()),
+            (Self::Gwo(o), AlgorithmKind::Tgwo) => o.configure(settings, bounds, GwoParams::tgwo()),
+            (Self::Gwo(o), AlgorithmKind::Igwo) => o.configure(settings, bounds, GwoParams::igwo()),
+            (Self::Ssa(o), AlgorithmKind::Ssa) => o.configure(settings, bounds, SsaParams::ssa()),
+            (Self::SsaGwo(o), AlgorithmKind::SsaGwo) => {
+                o.configure(settings, bounds, SsaGwoParams::seed_001())
+            }
+            (Self::Pso(o), AlgorithmKind::Pso) => {
+                o.configure(settings, bounds, PsoParams::seed_003())
+            }
+            (Self::Ga(o), AlgorithmKind::Ga) => o.configure(settings, bounds, GaParams::seed_003()),
+            (this, kind) => {
+                *this = Self::new(kind, settings, bounds)?;
+                Ok(())
+            }
+        }
     }
 }
 
@@ -187,6 +230,47 @@ mod tests {
         }
         assert_eq!("ACO".parse::<AlgorithmKind>(), Err(OptimError::UnknownName));
         assert_eq!("TCLHHO".parse::<AlgorithmKind>(), Ok(AlgorithmKind::Tclhho));
+    }
+
+    /// Firmware keeps the whole state in a `static`: every optimizer has a `const`
+    /// constructor and configures in place.
+    #[test]
+    fn optimizers_live_in_statics_and_configure_in_place() {
+        extern crate std;
+        use crate::optim::Stop;
+        static OPT: std::sync::Mutex<AnyOptimizer<30, 64>> =
+            std::sync::Mutex::new(AnyOptimizer::unconfigured());
+        static HHO: std::sync::Mutex<Hho<30, 64>> = std::sync::Mutex::new(Hho::unconfigured());
+        let mut f = |x: &[f32]| x.iter().map(|v| v * v).sum::<f32>();
+        let b = Bounds::<64>::uniform(8, -5.0, 5.0).unwrap();
+        let s = Settings {
+            population: 30,
+            iterations: 20,
+            seed: 1,
+        };
+        {
+            let mut h = HHO.lock().unwrap();
+            assert_eq!(h.init(&mut f, None), Err(OptimError::NotConfigured));
+            h.configure(s, &b, HhoParams::tclhho()).unwrap();
+            let bad = Settings {
+                population: 31,
+                ..s
+            };
+            assert!(h.configure(bad, &b, HhoParams::hho()).is_err());
+            // The failed call left the valid configuration in place.
+            h.run(&mut f, None, &Stop::default(), &mut []).unwrap();
+        }
+        let mut o = OPT.lock().unwrap();
+        for kind in AlgorithmKind::ALL {
+            o.configure(kind, s, &b).unwrap();
+            let r = o.run(&mut f, None, &Stop::default(), &mut []).unwrap();
+            let mut fresh = AnyOptimizer::<30, 64>::new(kind, s, &b).unwrap();
+            assert_eq!(
+                r,
+                fresh.run(&mut f, None, &Stop::default(), &mut []).unwrap(),
+                "{kind:?}"
+            );
+        }
     }
 
     /// The capacities only bound the sizes: the same runtime sizes and seed give bit-identical

@@ -70,14 +70,35 @@ impl<const N: usize, const D: usize> Ga<N, D> {
         bounds: &Bounds<D>,
         params: GaParams,
     ) -> Result<Self, OptimError> {
+        let mut s = Self::unconfigured();
+        s.configure(settings, bounds, params)?;
+        Ok(s)
+    }
+
+    /// An unconfigured instance for `const`/`static` initialisers (firmware keeps the state
+    /// in a `static` and calls [`configure`](Self::configure) on it, so no large temporary
+    /// passes through the stack); `init` fails until it is configured.
+    pub const fn unconfigured() -> Self {
+        Self {
+            swarm: Swarm::unconfigured(),
+            params: GaParams::seed_003(),
+            offspring: Population::empty(),
+        }
+    }
+
+    /// Validates and takes a configuration in place (needs at least 2 members); on
+    /// error nothing changes. Call [`Optimizer::init`] next.
+    pub fn configure(
+        &mut self,
+        settings: Settings,
+        bounds: &Bounds<D>,
+        params: GaParams,
+    ) -> Result<(), OptimError> {
         params.validate()?;
-        let swarm = Swarm::new(settings, bounds, 2)?;
-        let offspring = Population::new(settings.population, bounds.dim());
-        Ok(Self {
-            swarm,
-            params,
-            offspring,
-        })
+        self.swarm.configure(settings, bounds, 2)?;
+        self.params = params;
+        self.offspring.resize(settings.population, bounds.dim());
+        Ok(())
     }
 
     fn tournament(&mut self) -> usize {

@@ -41,6 +41,9 @@ pub struct GwoParams {
     /// Keep a wolf's move only if it improves the wolf (mealpy's `OriginalGWO` does this;
     /// `GWO.m` and SPEC do not: off by default).
     pub greedy: bool,
+    /// Literal seed 003 eq. 7, `X_k = |X_leader - A D|` (the bars are typesetting: off by
+    /// default, canonical GWO).
+    pub literal_abs: bool,
 }
 
 impl GwoParams {
@@ -51,6 +54,7 @@ impl GwoParams {
             factor: ConvergenceFactor::Linear,
             leaders: LeaderUpdate::Cascade,
             greedy: false,
+            literal_abs: false,
         }
     }
 
@@ -181,6 +185,7 @@ pub(crate) fn hunt<const D: usize>(
     a: f32,
     rng: &mut super::random::Random,
     out: &mut [f32],
+    literal_abs: bool,
 ) {
     for (d, (o, xd)) in out.iter_mut().zip(x).enumerate() {
         let mut sum = 0.0;
@@ -190,7 +195,8 @@ pub(crate) fn hunt<const D: usize>(
             let r2 = rng.unit();
             let big_a = 2.0 * a * r1 - a;
             let c = 2.0 * r2;
-            sum += lp - big_a * libm::fabsf(c * lp - xd);
+            let xk = lp - big_a * libm::fabsf(c * lp - xd);
+            sum += if literal_abs { libm::fabsf(xk) } else { xk };
         }
         *o = sum / 3.0;
     }
@@ -211,12 +217,34 @@ impl<const N: usize, const D: usize> Gwo<N, D> {
         bounds: &Bounds<D>,
         params: GwoParams,
     ) -> Result<Self, OptimError> {
-        params.validate()?;
-        Ok(Self {
-            swarm: Swarm::new(settings, bounds, 3)?,
-            params,
+        let mut s = Self::unconfigured();
+        s.configure(settings, bounds, params)?;
+        Ok(s)
+    }
+
+    /// An unconfigured instance for `const`/`static` initialisers (firmware keeps the state
+    /// in a `static` and calls [`configure`](Self::configure) on it, so no large temporary
+    /// passes through the stack); `init` fails until it is configured.
+    pub const fn unconfigured() -> Self {
+        Self {
+            swarm: Swarm::unconfigured(),
+            params: GwoParams::gwo(),
             leaders: Leaders::new(),
-        })
+        }
+    }
+
+    /// Validates and takes a configuration in place (needs at least 3 members); on
+    /// error nothing changes. Call [`Optimizer::init`] next.
+    pub fn configure(
+        &mut self,
+        settings: Settings,
+        bounds: &Bounds<D>,
+        params: GwoParams,
+    ) -> Result<(), OptimError> {
+        params.validate()?;
+        self.swarm.configure(settings, bounds, 3)?;
+        self.params = params;
+        Ok(())
     }
 
     /// The current leaders.
@@ -261,7 +289,14 @@ impl<const N: usize, const D: usize> Optimizer for Gwo<N, D> {
             let dim = self.swarm.dim();
             for i in 0..self.swarm.n() {
                 let sw = &mut self.swarm;
-                hunt(sw.pop.position(i), &leaders, a, &mut sw.rng, &mut row);
+                hunt(
+                    sw.pop.position(i),
+                    &leaders,
+                    a,
+                    &mut sw.rng,
+                    &mut row,
+                    self.params.literal_abs,
+                );
                 let cand = row.get_mut(..dim).unwrap_or(&mut []);
                 let cost = sw.clamp_and_evaluate(objective, cand);
                 if cost < sw.pop.cost(i) {
@@ -273,7 +308,14 @@ impl<const N: usize, const D: usize> Optimizer for Gwo<N, D> {
         }
         for i in 0..self.swarm.n() {
             let sw = &mut self.swarm;
-            hunt(sw.pop.position(i), &self.leaders, a, &mut sw.rng, &mut row);
+            hunt(
+                sw.pop.position(i),
+                &self.leaders,
+                a,
+                &mut sw.rng,
+                &mut row,
+                self.params.literal_abs,
+            );
             copy(sw.pop.position_mut(i), &row);
         }
         for i in 0..self.swarm.n() {
@@ -362,6 +404,34 @@ mod tests {
             assert!(g.leaders().beta.cost <= g.leaders().delta.cost);
             assert_eq!(r.evaluations, 12 * 51);
         }
+    }
+
+    #[test]
+    fn literal_absolute_bars_keep_wolves_non_negative() {
+        // Seed 003 eq. 7 read literally takes |.| of each leader term, so after the first
+        // move no wolf has a negative coordinate: an optimum at -5 is out of reach.
+        let b = Bounds::<3>::uniform(3, -10.0, 10.0).unwrap();
+        let s = Settings {
+            population: 10,
+            iterations: 30,
+            seed: 1,
+        };
+        let p = GwoParams {
+            literal_abs: true,
+            ..GwoParams::igwo()
+        };
+        let mut g = Gwo::<10, 3>::new(s, &b, p).unwrap();
+        let mut obj = |x: &[f32]| x.iter().map(|v| (v + 5.0) * (v + 5.0)).sum::<f32>();
+        g.init(&mut obj, None).unwrap();
+        g.step(&mut obj).unwrap();
+        for i in 0..10 {
+            assert!(g.swarm.pop.position(i).iter().all(|v| *v >= 0.0));
+        }
+        let mut canonical = Gwo::<10, 3>::new(s, &b, GwoParams::igwo()).unwrap();
+        let r = canonical
+            .run(&mut obj, None, &Stop::default(), &mut [])
+            .unwrap();
+        assert!(r.best_cost < 1.0);
     }
 
     #[test]

@@ -133,14 +133,36 @@ impl<const N: usize, const D: usize> Hho<N, D> {
         bounds: &Bounds<D>,
         params: HhoParams,
     ) -> Result<Self, OptimError> {
-        params.validate()?;
-        Ok(Self {
-            swarm: Swarm::new(settings, bounds, 2)?,
-            params,
+        let mut s = Self::unconfigured();
+        s.configure(settings, bounds, params)?;
+        Ok(s)
+    }
+
+    /// An unconfigured instance for `const`/`static` initialisers (firmware keeps the state
+    /// in a `static` and calls [`configure`](Self::configure) on it, so no large temporary
+    /// passes through the stack); `init` fails until it is configured.
+    pub const fn unconfigured() -> Self {
+        Self {
+            swarm: Swarm::unconfigured(),
+            params: HhoParams::hho(),
             sum: [0.0; D],
             y: [0.0; D],
             z: [0.0; D],
-        })
+        }
+    }
+
+    /// Validates and takes a configuration in place (needs at least 2 members); on
+    /// error nothing changes. Call [`Optimizer::init`] next.
+    pub fn configure(
+        &mut self,
+        settings: Settings,
+        bounds: &Bounds<D>,
+        params: HhoParams,
+    ) -> Result<(), OptimError> {
+        params.validate()?;
+        self.swarm.configure(settings, bounds, 2)?;
+        self.params = params;
+        Ok(())
     }
 
     /// The options in use.

@@ -18,6 +18,10 @@
 //!
 //! The order in which each algorithm draws random numbers is documented in [`random`].
 //!
+//! Firmware: every optimizer has a `const fn unconfigured()` and a `configure(..)` that
+//! validates and takes a configuration in place, so the state can live in a `static` without
+//! a large temporary on the stack; `new(..)` is `unconfigured()` plus `configure(..)`.
+//!
 //! # Example
 //!
 //! ```
@@ -67,6 +71,8 @@ pub enum OptimError {
     InvalidParameter(&'static str),
     /// A caller-supplied initial population has a wrong row count, row length or a NaN.
     InvalidInitialPopulation,
+    /// `init` was called on an optimizer built with `unconfigured()` and never configured.
+    NotConfigured,
     /// `step` was called before `init`.
     NotInitialised,
     /// `step` was called after the iteration horizon `T` was reached.
@@ -84,6 +90,7 @@ impl core::fmt::Display for OptimError {
             Self::IterationsZero => f.write_str("iteration count must be at least 1"),
             Self::InvalidParameter(name) => write!(f, "invalid parameter `{name}`"),
             Self::InvalidInitialPopulation => f.write_str("invalid initial population"),
+            Self::NotConfigured => f.write_str("optimizer not configured"),
             Self::NotInitialised => f.write_str("optimizer not initialised"),
             Self::Exhausted => f.write_str("iteration horizon reached"),
             Self::UnknownName => f.write_str("unknown name"),
@@ -289,6 +296,25 @@ pub struct Report {
 /// Firmware calls [`init`](Optimizer::init) once, then [`step`](Optimizer::step) in time slices
 /// and reads [`best_cost`](Optimizer::best_cost) between them; hosts call
 /// [`run`](Optimizer::run).
+///
+/// ```
+/// use planner_core::optim::{Bounds, Optimizer, Settings};
+/// use planner_core::optim::ssa_gwo::{SsaGwo, SsaGwoParams};
+///
+/// // Firmware keeps this in a `static`; `unconfigured` is `const`.
+/// let mut opt = SsaGwo::<30, 64>::unconfigured();
+/// let bounds = Bounds::<64>::uniform(12, -1.0, 1.0)?;
+/// opt.configure(Settings { population: 30, iterations: 100, seed: 42 }, &bounds, SsaGwoParams::seed_001())?;
+/// let mut cost = |x: &[f32]| x.iter().map(|v| (v - 0.25).abs()).sum::<f32>();
+/// opt.init(&mut cost, None)?;
+/// while opt.iteration() < opt.horizon() {
+///     // one time slice
+///     opt.step(&mut cost)?;
+/// }
+/// assert!(opt.best_cost() < 1e-2);
+/// assert_eq!(opt.best_position().len(), 12);
+/// # Ok::<(), planner_core::optim::OptimError>(())
+/// ```
 pub trait Optimizer {
     /// Builds and evaluates the initial population, replacing the generated rows by the
     /// caller's `initial` rows if given (each of length `dim`, clamped into the box; at most
@@ -389,12 +415,26 @@ impl<const N: usize, const D: usize> Population<N, D> {
     /// An empty population of runtime size `size <= N` and dimension `dim <= D` (all zero,
     /// costs `+inf`).
     pub fn new(size: usize, dim: usize) -> Self {
+        let mut p = Self::empty();
+        p.resize(size, dim);
+        p
+    }
+
+    /// A population of size 0 (usable in `const` and `static` initialisers).
+    pub const fn empty() -> Self {
         Self {
             positions: [[0.0; D]; N],
             costs: [f32::INFINITY; N],
-            size: size.min(N),
-            dim: dim.min(D),
+            size: 0,
+            dim: 0,
         }
+    }
+
+    /// Sets the runtime sizes in place (clamped to the capacity); costs become `+inf`.
+    pub fn resize(&mut self, size: usize, dim: usize) {
+        self.size = size.min(N);
+        self.dim = dim.min(D);
+        self.costs = [f32::INFINITY; N];
     }
 
     /// Runtime population size.
@@ -544,15 +584,23 @@ pub(crate) struct Tracker<const D: usize> {
 }
 
 impl<const D: usize> Tracker<D> {
-    pub fn new(dim: usize) -> Self {
+    pub const fn new(dim: usize) -> Self {
         Self {
             best: [0.0; D],
             best_cost: f32::INFINITY,
             best_iteration: 0,
             evaluations: 0,
             iteration: 0,
-            dim: dim.min(D),
+            dim: if dim < D { dim } else { D },
         }
+    }
+
+    pub fn reset(&mut self, dim: usize) {
+        self.best_cost = f32::INFINITY;
+        self.best_iteration = 0;
+        self.evaluations = 0;
+        self.iteration = 0;
+        self.dim = dim.min(D);
     }
 
     /// Evaluates `x`, counting it and taking it as the new best if it improves.
@@ -591,24 +639,44 @@ pub(crate) struct Swarm<const N: usize, const D: usize> {
 }
 
 impl<const N: usize, const D: usize> Swarm<N, D> {
-    pub fn new(
+    /// An unconfigured swarm, for `const`/`static` initialisers.
+    pub const fn unconfigured() -> Self {
+        Self {
+            settings: Settings {
+                population: 0,
+                iterations: 0,
+                seed: 0,
+            },
+            bounds: Bounds {
+                lower: [0.0; D],
+                upper: [0.0; D],
+                dim: 0,
+            },
+            rng: Random::unseeded(),
+            pop: Population::empty(),
+            tracker: Tracker::new(0),
+            initialised: false,
+        }
+    }
+
+    /// Validates and takes a configuration in place; on error nothing changes.
+    pub fn configure(
+        &mut self,
         settings: Settings,
         bounds: &Bounds<D>,
         min_population: usize,
-    ) -> Result<Self, OptimError> {
+    ) -> Result<(), OptimError> {
         settings.validate::<N>(min_population)?;
         let dim = bounds.dim();
         if dim == 0 || dim > D {
             return Err(OptimError::DimensionOutOfRange);
         }
-        Ok(Self {
-            settings,
-            bounds: bounds.clone(),
-            rng: Random::new(settings.seed),
-            pop: Population::new(settings.population, dim),
-            tracker: Tracker::new(dim),
-            initialised: false,
-        })
+        self.settings = settings;
+        self.bounds.clone_from(bounds);
+        self.pop.resize(settings.population, dim);
+        self.tracker.reset(dim);
+        self.initialised = false;
+        Ok(())
     }
 
     pub fn n(&self) -> usize {
@@ -626,6 +694,9 @@ impl<const N: usize, const D: usize> Swarm<N, D> {
         how: Initialisation,
         initial: Option<&[&[f32]]>,
     ) -> Result<(), OptimError> {
+        if self.settings.population == 0 {
+            return Err(OptimError::NotConfigured);
+        }
         let n = self.n();
         let dim = self.dim();
         if let Some(rows) = initial
@@ -636,8 +707,8 @@ impl<const N: usize, const D: usize> Swarm<N, D> {
         {
             return Err(OptimError::InvalidInitialPopulation);
         }
-        self.rng = Random::new(self.settings.seed);
-        self.tracker = Tracker::new(dim);
+        self.rng.reseed(self.settings.seed);
+        self.tracker.reset(dim);
         self.initialised = false;
         match how {
             Initialisation::Uniform | Initialisation::Opposition => {

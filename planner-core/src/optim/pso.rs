@@ -54,7 +54,7 @@ impl PsoParams {
         }
     }
 
-    fn validate(&self) -> Result<(), OptimError> {
+    pub(crate) fn validate(&self) -> Result<(), OptimError> {
         self.init.validate()?;
         check_param(self.w, 0.0, 1.0, "w")?;
         check_param(self.w_end, 0.0, 1.0, "w_end")?;
@@ -86,15 +86,36 @@ impl<const N: usize, const D: usize> Pso<N, D> {
         bounds: &Bounds<D>,
         params: PsoParams,
     ) -> Result<Self, OptimError> {
-        params.validate()?;
-        let swarm = Swarm::new(settings, bounds, 1)?;
-        let personal = Population::new(settings.population, bounds.dim());
-        Ok(Self {
-            swarm,
-            params,
+        let mut s = Self::unconfigured();
+        s.configure(settings, bounds, params)?;
+        Ok(s)
+    }
+
+    /// An unconfigured instance for `const`/`static` initialisers (firmware keeps the state
+    /// in a `static` and calls [`configure`](Self::configure) on it, so no large temporary
+    /// passes through the stack); `init` fails until it is configured.
+    pub const fn unconfigured() -> Self {
+        Self {
+            swarm: Swarm::unconfigured(),
+            params: PsoParams::seed_003(),
             velocity: [[0.0; D]; N],
-            personal,
-        })
+            personal: Population::empty(),
+        }
+    }
+
+    /// Validates and takes a configuration in place (needs at least 1 members); on
+    /// error nothing changes. Call [`Optimizer::init`] next.
+    pub fn configure(
+        &mut self,
+        settings: Settings,
+        bounds: &Bounds<D>,
+        params: PsoParams,
+    ) -> Result<(), OptimError> {
+        params.validate()?;
+        self.swarm.configure(settings, bounds, 1)?;
+        self.params = params;
+        self.personal.resize(settings.population, bounds.dim());
+        Ok(())
     }
 }
 

@@ -50,21 +50,39 @@ pub const LEVY_BETA: f32 = 1.5;
 /// A seeded generator and the draws the optimizers need.
 #[derive(Debug, Clone)]
 pub struct Random {
-    rng: Xoshiro128PlusPlus,
+    /// `None` until seeded, so that a generator can sit in a `const` initialiser; an unseeded
+    /// generator draws as if seeded with 0.
+    rng: Option<Xoshiro128PlusPlus>,
 }
 
 impl Random {
     /// A generator fully determined by `seed`.
     pub fn new(seed: u64) -> Self {
         Self {
-            rng: Xoshiro128PlusPlus::seed_from_u64(seed),
+            rng: Some(Xoshiro128PlusPlus::seed_from_u64(seed)),
         }
+    }
+
+    /// A generator for `const` initialisers; draws as if seeded with 0 until reseeded.
+    pub const fn unseeded() -> Self {
+        Self { rng: None }
+    }
+
+    /// Restarts the sequence of `seed`.
+    pub fn reseed(&mut self, seed: u64) {
+        self.rng = Some(Xoshiro128PlusPlus::seed_from_u64(seed));
     }
 
     /// The next raw 32-bit word.
     #[inline]
     pub fn next_u32(&mut self) -> u32 {
-        self.rng.next_u32()
+        match &mut self.rng {
+            Some(rng) => rng.next_u32(),
+            None => self
+                .rng
+                .insert(Xoshiro128PlusPlus::seed_from_u64(0))
+                .next_u32(),
+        }
     }
 
     /// Uniform in `[0, 1)`.

@@ -109,7 +109,7 @@ pub(crate) fn sparrow_step<const N: usize, const D: usize, O: Objective + ?Sized
     copy(&mut worst, pop.position(worst_index));
     let worst_cost = pop.cost(worst_index);
     let mut cand = [0.0f32; D];
-    let producers = count(params.producers, n).clamp(1, n);
+    let producers = count(params.producers, n).max(1).min(n);
 
     let alarm = rng.unit();
     for (rank, &i) in order.iter().enumerate().take(producers) {
@@ -222,11 +222,33 @@ impl<const N: usize, const D: usize> Ssa<N, D> {
         bounds: &Bounds<D>,
         params: SsaParams,
     ) -> Result<Self, OptimError> {
+        let mut s = Self::unconfigured();
+        s.configure(settings, bounds, params)?;
+        Ok(s)
+    }
+
+    /// An unconfigured instance for `const`/`static` initialisers (firmware keeps the state
+    /// in a `static` and calls [`configure`](Self::configure) on it, so no large temporary
+    /// passes through the stack); `init` fails until it is configured.
+    pub const fn unconfigured() -> Self {
+        Self {
+            swarm: Swarm::unconfigured(),
+            params: SsaParams::ssa(),
+        }
+    }
+
+    /// Validates and takes a configuration in place (needs at least 2 members); on
+    /// error nothing changes. Call [`Optimizer::init`] next.
+    pub fn configure(
+        &mut self,
+        settings: Settings,
+        bounds: &Bounds<D>,
+        params: SsaParams,
+    ) -> Result<(), OptimError> {
         params.validate()?;
-        Ok(Self {
-            swarm: Swarm::new(settings, bounds, 2)?,
-            params,
-        })
+        self.swarm.configure(settings, bounds, 2)?;
+        self.params = params;
+        Ok(())
     }
 }
 

@@ -12,7 +12,7 @@
 //! Evaluations: `2N` at initialisation, then `2N + round(SD N)` per iteration.
 
 use super::gwo::{Leaders, hunt};
-use super::pso::{Pso, PsoParams};
+use super::pso::PsoParams;
 use super::schedule::{ConvergenceFactor, Schedule};
 use super::ssa::{SsaParams, sparrow_step};
 use super::{
@@ -68,12 +68,34 @@ impl<const N: usize, const D: usize> SsaGwo<N, D> {
         bounds: &Bounds<D>,
         params: SsaGwoParams,
     ) -> Result<Self, OptimError> {
-        params.validate()?;
-        Ok(Self {
-            swarm: Swarm::new(settings, bounds, 3)?,
-            params,
+        let mut s = Self::unconfigured();
+        s.configure(settings, bounds, params)?;
+        Ok(s)
+    }
+
+    /// An unconfigured instance for `const`/`static` initialisers (firmware keeps the state
+    /// in a `static` and calls [`configure`](Self::configure) on it, so no large temporary
+    /// passes through the stack); `init` fails until it is configured.
+    pub const fn unconfigured() -> Self {
+        Self {
+            swarm: Swarm::unconfigured(),
+            params: SsaGwoParams::seed_001(),
             leaders: Leaders::new(),
-        })
+        }
+    }
+
+    /// Validates and takes a configuration in place (needs at least 3 members); on
+    /// error nothing changes. Call [`Optimizer::init`] next.
+    pub fn configure(
+        &mut self,
+        settings: Settings,
+        bounds: &Bounds<D>,
+        params: SsaGwoParams,
+    ) -> Result<(), OptimError> {
+        params.validate()?;
+        self.swarm.configure(settings, bounds, 3)?;
+        self.params = params;
+        Ok(())
     }
 
     /// The leaders as recomputed after the last iteration.
@@ -89,7 +111,14 @@ impl<const N: usize, const D: usize> SsaGwo<N, D> {
         let dim = sw.dim();
         let mut cand = [0.0f32; D];
         for i in 0..sw.n() {
-            hunt(sw.pop.position(i), &self.leaders, a, &mut sw.rng, &mut cand);
+            hunt(
+                sw.pop.position(i),
+                &self.leaders,
+                a,
+                &mut sw.rng,
+                &mut cand,
+                false,
+            );
             let c = cand.get_mut(..dim).unwrap_or(&mut []);
             let cost = sw.clamp_and_evaluate(objective, c);
             if cost < sw.pop.cost(i) {
@@ -123,22 +152,32 @@ impl<const N: usize, const D: usize> SsaGwoPso<N, D> {
         params: SsaGwoParams,
         pso: PsoParams,
     ) -> Result<Self, OptimError> {
-        let inner = SsaGwo::new(settings, bounds, params)?;
-        // Validate the PSO coefficients through the PSO constructor's rules.
-        Pso::<1, 1>::new(
-            Settings {
-                population: 1,
-                iterations: 1,
-                seed: 0,
-            },
-            &Bounds::uniform(1, 0.0, 1.0)?,
-            pso,
-        )?;
-        Ok(Self {
-            inner,
-            pso,
+        let mut s = Self::unconfigured();
+        s.configure(settings, bounds, params, pso)?;
+        Ok(s)
+    }
+
+    /// An unconfigured instance for `const`/`static` initialisers.
+    pub const fn unconfigured() -> Self {
+        Self {
+            inner: SsaGwo::unconfigured(),
+            pso: PsoParams::seed_001(),
             velocity: [[0.0; D]; N],
-        })
+        }
+    }
+
+    /// Validates and takes a configuration in place; on error nothing changes.
+    pub fn configure(
+        &mut self,
+        settings: Settings,
+        bounds: &Bounds<D>,
+        params: SsaGwoParams,
+        pso: PsoParams,
+    ) -> Result<(), OptimError> {
+        pso.validate()?;
+        self.inner.configure(settings, bounds, params)?;
+        self.pso = pso;
+        Ok(())
     }
 }
 
@@ -168,13 +207,15 @@ impl<const N: usize, const D: usize> Optimizer for SsaGwoPso<N, D> {
                 .zip(x.iter().zip(&alpha))
                 .enumerate()
             {
-                let r1 = sw.rng.unit();
+                // r1 belongs to the cognitive term c1 r1 (p - x), which is zero here (the
+                // population holds each member's best, p = x); it is drawn all the same so the
+                // draws follow the equation.
+                let _r1 = sw.rng.unit();
                 let r2 = sw.rng.unit();
                 let width = sw.bounds.upper().get(d).copied().unwrap_or(0.0)
                     - sw.bounds.lower().get(d).copied().unwrap_or(0.0);
                 let vmax = p.vmax_fraction * width;
-                // p - x is zero: the population holds each member's best.
-                let nv = p.w * *v + p.c1 * r1 * (xd - xd) + p.c2 * r2 * (g - xd);
+                let nv = p.w * *v + p.c2 * r2 * (g - xd);
                 *v = nv.max(-vmax).min(vmax);
                 *c = xd + *v;
             }
