@@ -189,7 +189,11 @@ fn exact_strips(
 
 fn div_floor(a: i64, b: i64) -> i64 {
     let q = a / b;
-    if (a % b != 0) && ((a < 0) != (b < 0)) { q - 1 } else { q }
+    if (a % b != 0) && ((a < 0) != (b < 0)) {
+        q - 1
+    } else {
+        q
+    }
 }
 
 fn div_ceil(a: i64, b: i64) -> i64 {
@@ -488,8 +492,14 @@ mod tests {
 
     #[test]
     fn integer_division_helpers() {
-        assert_eq!((div_floor(-3, 2), div_floor(3, 2), div_floor(4, 2)), (-2, 1, 2));
-        assert_eq!((div_ceil(-3, 2), div_ceil(3, 2), div_ceil(4, 2)), (-1, 2, 2));
+        assert_eq!(
+            (div_floor(-3, 2), div_floor(3, 2), div_floor(4, 2)),
+            (-2, 1, 2)
+        );
+        assert_eq!(
+            (div_ceil(-3, 2), div_ceil(3, 2), div_ceil(4, 2)),
+            (-1, 2, 2)
+        );
     }
 
     #[test]

@@ -6,12 +6,12 @@
 //!
 //! Random numbers: per ant, one uniform draw per step (the roulette), nothing else.
 
+use crate::encoding::walk::CornerRule;
 use crate::error::PlanError;
 use crate::geometry::{Cell, Point};
 use crate::grid::GridRef;
 use crate::optim::random::Random;
 use crate::path::{self, PathView};
-use crate::encoding::walk::CornerRule;
 use crate::search::{MOVES, check_endpoints, connectivity};
 
 use super::{PlanReport, PlanStop};
