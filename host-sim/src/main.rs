@@ -1,12 +1,16 @@
 //! `host-sim`: the front door of the warehouse planner.
 //!
 //! Subcommands:
-//! - `plan`: plan queries on a Moving AI `.map` and print one JSON object a line.
+//! - `plan`: plan queries on a Moving AI `.map` and print one JSON object a line;
+//! - `optimize`: run a swarm optimizer on benchmark functions (JSON statistics);
+//! - `bench paper|movingai|speed`: the papers' tables, quality and speed benchmarks;
+//! - `maps`: write the seed-style maps as `.map` files.
 
 use clap::{Parser, Subcommand};
 
 mod cmd;
 mod maps;
+mod validate;
 
 #[derive(Parser)]
 #[command(
@@ -23,10 +27,19 @@ struct Cli {
 enum Command {
     /// Plan paths on a map; one JSON object per query.
     Plan(cmd::plan::PlanArgs),
+    /// Run a swarm optimizer on a benchmark function and print JSON statistics.
+    Optimize(cmd::optimize::OptimizeArgs),
+    /// Benchmarks: the papers' tables, Moving AI quality, speed.
+    Bench(cmd::bench::BenchArgs),
+    /// Write the seed-style maps of the papers as Moving AI `.map` files.
+    Maps(cmd::maps::MapsArgs),
 }
 
 fn main() -> anyhow::Result<()> {
     match Cli::parse().command {
         Command::Plan(args) => cmd::plan::run(&args),
+        Command::Optimize(args) => cmd::optimize::run(&args),
+        Command::Bench(args) => cmd::bench::run(&args),
+        Command::Maps(args) => cmd::maps::run(&args),
     }
 }

@@ -111,46 +111,93 @@ pub const TOUCH_EPS: f32 = 1e-4;
 /// # Ok::<(), planner_core::error::MapError>(())
 /// ```
 pub fn line_of_sight(grid: GridRef<'_>, a: Cell, b: Cell) -> bool {
-    let (a, b) = if a.x <= b.x { (a, b) } else { (b, a) };
-    let (x0, y0, x1, y1) = (a.x as i64, a.y as i64, b.x as i64, b.y as i64);
-    let dx = x1 - x0;
-    if dx == 0 {
-        let (lo, hi) = if y0 <= y1 { (y0, y1) } else { (y1, y0) };
-        return (lo..=hi).all(|y| !grid.is_blocked(x0 as isize, y as isize));
+    let (dx, dy) = (b.x as i64 - a.x as i64, b.y as i64 - a.y as i64);
+    // Walk the strips across the segment's short side; each strip is one run of cells.
+    if dy.abs() > dx.abs() {
+        exact_strips(
+            (a.x as i64, a.y as i64),
+            (b.x as i64, b.y as i64),
+            |c, lo, hi| grid.column_run_blocked(c as isize, lo as isize, hi as isize),
+        )
+    } else {
+        exact_strips(
+            (a.y as i64, a.x as i64),
+            (b.y as i64, b.x as i64),
+            |r, lo, hi| grid.row_run_blocked(r as isize, lo as isize, hi as isize),
+        )
     }
-    // Mirror vertically so that the line rises: row r of the mirrored problem is row
-    // `s * r` of the map (cell squares are symmetric, so touches are preserved).
-    let s = if y1 >= y0 { 1 } else { -1 };
-    let (y0, y1) = (s * y0, s * y1);
-    let dy = y1 - y0;
-    // Column c spans x in [c - 1/2, c + 1/2]; row r is touched when the segment's height
-    // range over that span meets [r - 1/2, r + 1/2] (closed: corners count). Between
-    // columns x0 + k and x0 + k + 1 the line is at Y_k = y0 + (k + 1/2) dy / dx, so
-    // column x0 + k covers rows ceil(Y_(k-1) - 1/2) ..= floor(Y_k + 1/2) (y0 and y1 at the
-    // ends). Track q = floor(Y_k + 1/2) and its remainder in units of 1/(2 dx) exactly,
-    // without dividing in the loop: ceil(Y_k - 1/2) is q - 1 when Y_k + 1/2 is an integer
-    // (the line passes through a cell corner) and q otherwise.
-    let (two_dx, two_dy) = (2 * dx, 2 * dy);
-    let (step_q, step_rem) = (two_dy / two_dx, two_dy % two_dx);
-    let mut q = y0 + (dy + dx) / two_dx;
-    let mut rem = (dy + dx) % two_dx;
-    let mut lo = y0;
-    for c in x0..=x1 {
-        let hi = if c == x1 { y1 } else { q };
-        for r in lo..=hi {
-            if grid.is_blocked(c as isize, (s * r) as isize) {
-                return false;
-            }
-        }
-        lo = if rem == 0 { q - 1 } else { q };
-        q += step_q;
-        rem += step_rem;
-        if rem >= two_dx {
-            rem -= two_dx;
-            q += 1;
+}
+
+/// The number of blocked cells (or cells outside the map) the segment between two cell
+/// centres touches under the collision rule: 0 exactly when [`line_of_sight`] holds. A
+/// graded measure of "how blocked" a segment is, for penalties that guide an optimizer.
+pub fn blocked_cells_touched(grid: GridRef<'_>, a: Cell, b: Cell) -> u32 {
+    let (dx, dy) = (b.x as i64 - a.x as i64, b.y as i64 - a.y as i64);
+    let mut count = 0;
+    if dy.abs() > dx.abs() {
+        exact_strips(
+            (a.x as i64, a.y as i64),
+            (b.x as i64, b.y as i64),
+            |c, lo, hi| {
+                count += grid.column_run_count(c as isize, lo as isize, hi as isize);
+                false
+            },
+        );
+    } else {
+        exact_strips(
+            (a.y as i64, a.x as i64),
+            (b.y as i64, b.x as i64),
+            |r, lo, hi| {
+                count += grid.row_run_count(r as isize, lo as isize, hi as isize);
+                false
+            },
+        );
+    }
+    count
+}
+
+/// The exact rule in strip form, for a segment between lattice points `(u, v)`: strip `s`
+/// spans `u` in `[s - 1/2, s + 1/2]`; the cells it touches are the `v` run whose closed
+/// intervals `[p - 1/2, p + 1/2]` meet the segment's `v` range over the strip (corners
+/// count). `blocked(s, lo, hi)` tests one run. Integer arithmetic in units of `1/(2 du)`.
+fn exact_strips(
+    a: (i64, i64),
+    b: (i64, i64),
+    mut blocked: impl FnMut(i64, i64, i64) -> bool,
+) -> bool {
+    let ((u0, v0), (u1, v1)) = if a.0 <= b.0 { (a, b) } else { (b, a) };
+    let (du, dv) = (u1 - u0, v1 - v0);
+    if du == 0 {
+        return !blocked(u0, v0.min(v1), v0.max(v1));
+    }
+    for s in u0..=u1 {
+        let left2 = (2 * s - 1).max(2 * u0);
+        let right2 = (2 * s + 1).min(2 * u1);
+        let h_left = 2 * du * v0 + (left2 - 2 * u0) * dv;
+        let h_right = 2 * du * v0 + (right2 - 2 * u0) * dv;
+        let (lo, hi) = if h_left <= h_right {
+            (h_left, h_right)
+        } else {
+            (h_right, h_left)
+        };
+        if blocked(s, div_ceil(lo - du, 2 * du), div_floor(hi + du, 2 * du)) {
+            return false;
         }
     }
     true
+}
+
+fn div_floor(a: i64, b: i64) -> i64 {
+    let q = a / b;
+    if (a % b != 0) && ((a < 0) != (b < 0)) {
+        q - 1
+    } else {
+        q
+    }
+}
+
+fn div_ceil(a: i64, b: i64) -> i64 {
+    -div_floor(-a, b)
 }
 
 /// Collision check of a segment between arbitrary points under the same rule, in `f32`
@@ -173,28 +220,45 @@ pub fn segment_is_clear(grid: GridRef<'_>, a: Point, b: Point) -> bool {
     if !inside(a) || !inside(b) {
         return false;
     }
-    let (a, b) = if a.x <= b.x { (a, b) } else { (b, a) };
-    let (dx, dy) = (b.x - a.x, b.y - a.y);
-    let c0 = libm::ceilf(a.x - 0.5 - TOUCH_EPS) as isize;
-    let c1 = libm::floorf(b.x + 0.5 + TOUCH_EPS) as isize;
-    for c in c0..=c1 {
-        let (lo, hi) = if dx == 0.0 {
-            (a.y.min(b.y), a.y.max(b.y))
+    if (b.y - a.y).abs() > (b.x - a.x).abs() {
+        float_strips((a.x, a.y), (b.x, b.y), |c, lo, hi| {
+            grid.column_run_blocked(c, lo, hi)
+        })
+    } else {
+        float_strips((a.y, a.x), (b.y, b.x), |r, lo, hi| {
+            grid.row_run_blocked(r, lo, hi)
+        })
+    }
+}
+
+/// [`exact_strips`] for fractional end points, widened by [`TOUCH_EPS`] on every side.
+fn float_strips(
+    a: (f32, f32),
+    b: (f32, f32),
+    mut blocked: impl FnMut(isize, isize, isize) -> bool,
+) -> bool {
+    let ((u0, v0), (u1, v1)) = if a.0 <= b.0 { (a, b) } else { (b, a) };
+    let (du, dv) = (u1 - u0, v1 - v0);
+    let s0 = crate::math::ceil_i(u0 - 0.5 - TOUCH_EPS);
+    let s1 = crate::math::floor_i(u1 + 0.5 + TOUCH_EPS);
+    for s in s0..=s1 {
+        let (lo, hi) = if du == 0.0 {
+            (v0.min(v1), v0.max(v1))
         } else {
-            let xl = a.x.max(c as f32 - 0.5);
-            let xr = b.x.min(c as f32 + 0.5);
-            // Multiply before dividing: exact whenever the true height is representable,
-            // which keeps corner touches between cell centres exact.
-            let yl = a.y + (xl - a.x) * dy / dx;
-            let yr = a.y + (xr - a.x) * dy / dx;
-            (yl.min(yr), yl.max(yr))
+            // Clamped to the segment: a strip reached only through TOUCH_EPS is touched near
+            // an end point, and extrapolating the line there would run away when du is tiny.
+            let ul = (s as f32 - 0.5).clamp(u0, u1);
+            let ur = (s as f32 + 0.5).clamp(u0, u1);
+            // Multiply before dividing: exact whenever the true value is representable,
+            // which keeps corner touches exact.
+            let vl = v0 + (ul - u0) * dv / du;
+            let vr = v0 + (ur - u0) * dv / du;
+            (vl.min(vr), vl.max(vr))
         };
-        let r0 = libm::ceilf(lo - 0.5 - TOUCH_EPS) as isize;
-        let r1 = libm::floorf(hi + 0.5 + TOUCH_EPS) as isize;
-        for r in r0..=r1 {
-            if grid.is_blocked(c, r) {
-                return false;
-            }
+        let p0 = crate::math::ceil_i(lo - 0.5 - TOUCH_EPS);
+        let p1 = crate::math::floor_i(hi + 0.5 + TOUCH_EPS);
+        if blocked(s, p0, p1) {
+            return false;
         }
     }
     true
@@ -202,7 +266,7 @@ pub fn segment_is_clear(grid: GridRef<'_>, a: Point, b: Point) -> bool {
 
 /// The cell whose centre is exactly `p`, if `p` has integral coordinates in `u16` range.
 fn centre_cell(p: Point) -> Option<Cell> {
-    let integral = |v: f32| v >= 0.0 && v <= u16::MAX as f32 && libm::truncf(v) == v;
+    let integral = |v: f32| v >= 0.0 && v <= u16::MAX as f32 && (v as u16) as f32 == v;
     (integral(p.x) && integral(p.y)).then(|| Cell::new(p.x as u16, p.y as u16))
 }
 
@@ -423,6 +487,18 @@ mod tests {
         assert_eq!(
             segment_clearance(g.view(), Point::new(2.0, 0.0), Point::new(2.0, 4.0), 9.0),
             0.0
+        );
+    }
+
+    #[test]
+    fn integer_division_helpers() {
+        assert_eq!(
+            (div_floor(-3, 2), div_floor(3, 2), div_floor(4, 2)),
+            (-2, 1, 2)
+        );
+        assert_eq!(
+            (div_ceil(-3, 2), div_ceil(3, 2), div_ceil(4, 2)),
+            (-1, 2, 2)
         );
     }
 

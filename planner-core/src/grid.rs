@@ -30,11 +30,17 @@ pub const fn words_for(width: usize, height: usize) -> usize {
 pub const MAX_SIDE: usize = u16::MAX as usize;
 
 /// A bit-packed occupancy grid holding up to `WORDS * 32` cells.
+///
+/// The bits are kept twice, row-major and column-major, so that any run of cells along a
+/// row or a column is tested with a few word operations: segment checks, the planners' inner
+/// loop, then cost O(short side of the segment) instead of O(cells touched). The second
+/// copy costs one bit per cell.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Grid<const WORDS: usize> {
     width: usize,
     height: usize,
     bits: [u32; WORDS],
+    columns: [u32; WORDS],
 }
 
 /// A borrowed, capacity-independent view of a grid.
@@ -43,6 +49,7 @@ pub struct GridRef<'a> {
     width: usize,
     height: usize,
     bits: &'a [u32],
+    columns: &'a [u32],
 }
 
 impl<const WORDS: usize> Grid<WORDS> {
@@ -59,6 +66,7 @@ impl<const WORDS: usize> Grid<WORDS> {
                 width,
                 height,
                 bits: [0; WORDS],
+                columns: [0; WORDS],
             }),
             _ => Err(GridError::CapacityExceeded),
         }
@@ -80,6 +88,7 @@ impl<const WORDS: usize> Grid<WORDS> {
             width: self.width,
             height: self.height,
             bits: &self.bits,
+            columns: &self.columns,
         }
     }
 
@@ -88,15 +97,8 @@ impl<const WORDS: usize> Grid<WORDS> {
         if x >= self.width || y >= self.height {
             return Err(GridError::OutOfBounds);
         }
-        let i = y * self.width + x;
-        let (word, bit) = (i / 32, i % 32);
-        let slot = self.bits.get_mut(word).ok_or(GridError::OutOfBounds)?;
-        if blocked {
-            *slot |= 1 << bit;
-        } else {
-            *slot &= !(1 << bit);
-        }
-        Ok(())
+        set_bit(&mut self.bits, y * self.width + x, blocked)?;
+        set_bit(&mut self.columns, x * self.height + y, blocked)
     }
 
     /// Parses Moving AI `.map` text: `type octile`, `height H`, `width W`, `map`, then `H`
@@ -187,6 +189,24 @@ impl<const WORDS: usize> Grid<WORDS> {
             grid.fill_row(row, line)?;
         }
         Ok(grid)
+    }
+
+    /// Writes the grid as Moving AI `.map` text (`.` free, `@` blocked), the inverse of
+    /// [`parse_movingai`](Self::parse_movingai).
+    pub fn write_movingai(&self, out: &mut impl core::fmt::Write) -> core::fmt::Result {
+        write!(
+            out,
+            "type octile\nheight {}\nwidth {}\nmap\n",
+            self.height, self.width
+        )?;
+        let view = self.view();
+        for y in 0..self.height as isize {
+            for x in 0..self.width as isize {
+                out.write_char(if view.is_blocked(x, y) { '@' } else { '.' })?;
+            }
+            out.write_char('\n')?;
+        }
+        Ok(())
     }
 
     fn fill_row(&mut self, row: usize, line: &[u8]) -> Result<(), MapError> {
@@ -290,6 +310,72 @@ impl<'a> GridRef<'a> {
         }
     }
 
+    /// Whether any cell of row `y`, columns `x0..=x1`, is blocked (cells outside the map are).
+    #[inline]
+    pub fn row_run_blocked(&self, y: isize, x0: isize, x1: isize) -> bool {
+        if x0 > x1 {
+            return false;
+        }
+        if y < 0 || x0 < 0 || y as usize >= self.height || x1 as usize >= self.width {
+            return true;
+        }
+        let base = y as usize * self.width;
+        any_set(self.bits, base + x0 as usize, base + x1 as usize)
+    }
+
+    /// Whether any cell of column `x`, rows `y0..=y1`, is blocked (cells outside the map are).
+    #[inline]
+    pub fn column_run_blocked(&self, x: isize, y0: isize, y1: isize) -> bool {
+        if y0 > y1 {
+            return false;
+        }
+        if x < 0 || y0 < 0 || x as usize >= self.width || y1 as usize >= self.height {
+            return true;
+        }
+        let base = x as usize * self.height;
+        any_set(self.columns, base + y0 as usize, base + y1 as usize)
+    }
+
+    /// Number of blocked cells in row `y`, columns `x0..=x1` (cells outside the map count).
+    pub fn row_run_count(&self, y: isize, x0: isize, x1: isize) -> u32 {
+        if x0 > x1 {
+            return 0;
+        }
+        let inside_lo = x0.max(0);
+        let inside_hi = x1.min(self.width as isize - 1);
+        let outside = (x1 - x0 + 1) as u32 - (inside_hi - inside_lo + 1).max(0) as u32;
+        if y < 0 || y as usize >= self.height || inside_lo > inside_hi {
+            return (x1 - x0 + 1) as u32;
+        }
+        let base = y as usize * self.width;
+        outside
+            + count_set(
+                self.bits,
+                base + inside_lo as usize,
+                base + inside_hi as usize,
+            )
+    }
+
+    /// Number of blocked cells in column `x`, rows `y0..=y1` (cells outside the map count).
+    pub fn column_run_count(&self, x: isize, y0: isize, y1: isize) -> u32 {
+        if y0 > y1 {
+            return 0;
+        }
+        let inside_lo = y0.max(0);
+        let inside_hi = y1.min(self.height as isize - 1);
+        let outside = (y1 - y0 + 1) as u32 - (inside_hi - inside_lo + 1).max(0) as u32;
+        if x < 0 || x as usize >= self.width || inside_lo > inside_hi {
+            return (y1 - y0 + 1) as u32;
+        }
+        let base = x as usize * self.height;
+        outside
+            + count_set(
+                self.columns,
+                base + inside_lo as usize,
+                base + inside_hi as usize,
+            )
+    }
+
     /// Whether a cell is on the map and free.
     #[inline]
     pub fn is_free(&self, cell: Cell) -> bool {
@@ -315,6 +401,52 @@ impl<'a> GridRef<'a> {
             .filter(|&i| self.is_blocked((i % self.width) as isize, (i / self.width) as isize))
             .count()
     }
+}
+
+fn set_bit(bits: &mut [u32], i: usize, value: bool) -> Result<(), GridError> {
+    let slot = bits.get_mut(i / 32).ok_or(GridError::OutOfBounds)?;
+    if value {
+        *slot |= 1 << (i % 32);
+    } else {
+        *slot &= !(1 << (i % 32));
+    }
+    Ok(())
+}
+
+/// Whether any bit in `first..=last` is set (missing words count as set).
+#[inline]
+fn any_set(bits: &[u32], first: usize, last: usize) -> bool {
+    let (w0, w1) = (first / 32, last / 32);
+    let head = !0u32 << (first % 32);
+    let tail = !0u32 >> (31 - last % 32);
+    if w0 == w1 {
+        return bits.get(w0).is_none_or(|w| w & head & tail != 0);
+    }
+    match (bits.get(w0), bits.get(w1), bits.get(w0 + 1..w1)) {
+        (Some(a), Some(b), Some(mid)) => {
+            a & head != 0 || b & tail != 0 || mid.iter().any(|w| *w != 0)
+        }
+        _ => true,
+    }
+}
+
+/// Number of set bits in `first..=last` (missing words count as all set).
+fn count_set(bits: &[u32], first: usize, last: usize) -> u32 {
+    let (w0, w1) = (first / 32, last / 32);
+    let head = !0u32 << (first % 32);
+    let tail = !0u32 >> (31 - last % 32);
+    (w0..=w1)
+        .map(|w| {
+            let mask = match (w == w0, w == w1) {
+                (true, true) => head & tail,
+                (true, false) => head,
+                (false, true) => tail,
+                (false, false) => !0,
+            };
+            bits.get(w)
+                .map_or(mask.count_ones(), |v| (v & mask).count_ones())
+        })
+        .sum()
 }
 
 /// Parses a decimal side length; `None` for anything but 1-6 ASCII digits.
@@ -469,6 +601,50 @@ mod tests {
             assert_eq!(v.index(v.cell(i)), Some(i));
         }
         assert_eq!(v.index(Cell::new(5, 0)), None);
+    }
+
+    #[test]
+    fn writes_what_it_parses() {
+        let g = Small::parse_rows(b"..@.\n@...\n").unwrap();
+        let mut text: heapless::String<128> = heapless::String::new();
+        g.write_movingai(&mut text).unwrap();
+        assert_eq!(
+            text.as_str(),
+            "type octile\nheight 2\nwidth 4\nmap\n..@.\n@...\n"
+        );
+        assert_eq!(Small::parse_movingai(text.as_bytes()).unwrap(), g);
+    }
+
+    #[test]
+    fn runs_agree_with_cells() {
+        let g = Small::parse_rows(b"........\n...@....\n........\n.......@\n@.......\n").unwrap();
+        let v = g.view();
+        for a in -1..9isize {
+            for b in a..9 {
+                for line in -1..9isize {
+                    let row = (a..=b).any(|x| v.is_blocked(x, line));
+                    assert_eq!(v.row_run_blocked(line, a, b), row, "row {line} {a}..{b}");
+                    let col = (a..=b).any(|y| v.is_blocked(line, y));
+                    assert_eq!(v.column_run_blocked(line, a, b), col, "col {line} {a}..{b}");
+                }
+            }
+        }
+        assert!(!v.row_run_blocked(0, 3, 2));
+        for a in -2..10isize {
+            for b in a..10 {
+                for line in -1..9isize {
+                    let row = (a..=b).filter(|&x| v.is_blocked(x, line)).count() as u32;
+                    assert_eq!(v.row_run_count(line, a, b), row, "row {line} {a}..{b}");
+                    let col = (a..=b).filter(|&y| v.is_blocked(line, y)).count() as u32;
+                    assert_eq!(v.column_run_count(line, a, b), col, "col {line} {a}..{b}");
+                }
+            }
+        }
+        let mut wide = Grid::<{ words_for(100, 2) }>::new(100, 2).unwrap();
+        wide.set_blocked(70, 1, true).unwrap();
+        assert!(wide.view().row_run_blocked(1, 5, 95));
+        assert!(!wide.view().row_run_blocked(1, 5, 69));
+        assert!(!wide.view().row_run_blocked(0, 0, 99));
     }
 
     #[test]

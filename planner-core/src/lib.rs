@@ -14,6 +14,9 @@
 #![deny(unsafe_code)]
 #![warn(missing_docs)]
 
+#[cfg(test)]
+extern crate std;
+
 pub mod error;
 pub mod geometry;
 pub mod grid;
@@ -25,3 +28,6 @@ pub mod search;
 pub use error::{GridError, MapError, PlanError};
 pub use geometry::{Cell, Point};
 pub use grid::{Grid, GridRef, words_for};
+pub mod encoding;
+pub mod maps;
+pub mod planner;

@@ -1,3 +1,6 @@
 //! One module per subcommand.
 
+pub mod bench;
+pub mod maps;
+pub mod optimize;
 pub mod plan;

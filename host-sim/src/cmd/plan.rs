@@ -1,9 +1,11 @@
 //! `host-sim plan`: the contract every planner plugs into.
 //!
 //! ```text
-//! host-sim plan --map FILE.map --queries Q.txt --algo astar|theta [--seed N] [--radius R] [--out RESULTS.jsonl]
+//! host-sim plan --map FILE.map --queries Q.txt --algo NAME [--seed N] [planner options] [--out RESULTS.jsonl]
 //! host-sim plan --map FILE.map --start X,Y --goal X,Y --algo astar
 //! ```
+//! `NAME` is any planner of `planner-core`: `astar`, `theta`, `aco`, `tclhho`, `igwo`, `hho`,
+//! `gwo`, `tgwo`, `pso`, `ga`, `ssa`, `ssagwo`.
 //! `Q.txt` holds one query a line, `sx sy gx gy` in cell coordinates (blank lines and lines
 //! starting with `#` are skipped). Output: one JSON object a line, in query order:
 //! `{"start":[sx,sy],"goal":[gx,gy],"path":[[x,y],...],"length":L,"time_us":T,...}` or
@@ -14,9 +16,13 @@ use crate::maps::{HostGrid, load_movingai};
 use anyhow::Context;
 use clap::ValueEnum;
 use planner_core::PlanError;
+use planner_core::encoding::walk::CornerRule;
 use planner_core::geometry::Cell;
-use planner_core::path::{self, Path, PathView};
-use planner_core::search::{SearchNode, astar, connectivity, theta};
+use planner_core::optim::any::AlgorithmKind;
+use planner_core::path::{Path, PathView};
+use planner_core::planner::aco::AcoParams;
+use planner_core::planner::owned::HostPlanner;
+use planner_core::planner::{EncodingKind, InitKind, PlanParams, PlannerKind};
 use serde_json::{Value, json};
 use std::io::{BufWriter, Write};
 use std::path::PathBuf;
@@ -40,9 +46,9 @@ pub struct PlanArgs {
     /// Goal cell `X,Y` (single query).
     #[arg(long, value_parser = parse_xy, requires = "start")]
     pub goal: Option<(i64, i64)>,
-    /// Planner.
-    #[arg(long, value_enum, default_value_t = Algo::Astar)]
-    pub algo: Algo,
+    /// Planner: astar, theta, aco, tclhho, igwo, hho, gwo, tgwo, pso, ga, ssa, ssagwo.
+    #[arg(long, value_parser = parse_planner, default_value = "astar")]
+    pub algo: PlannerKind,
     /// Seed of the random number generator (stochastic planners; recorded in the output).
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
@@ -52,24 +58,124 @@ pub struct PlanArgs {
     /// Write results here instead of standard output.
     #[arg(long)]
     pub out: Option<PathBuf>,
+    /// Options of the swarm planners and ACO.
+    #[command(flatten)]
+    pub swarm: SwarmArgs,
 }
 
-/// Planners selectable with `--algo`.
+/// Options shared by every command that runs swarm planners.
+#[derive(clap::Args, Debug, Clone)]
+pub struct SwarmArgs {
+    /// Population size (swarm planners) or ants (ACO).
+    #[arg(long)]
+    pub pop: Option<usize>,
+    /// Iterations.
+    #[arg(long)]
+    pub iters: Option<u32>,
+    /// Stop after this many iterations without improvement.
+    #[arg(long)]
+    pub stagnation: Option<u32>,
+    /// Path encoding: corridor (any map), column (seed 000), walk (seed 003).
+    #[arg(long, value_enum, default_value_t = EncodingArg::Corridor)]
+    pub encoding: EncodingArg,
+    /// Initial population: the optimizer's own, or the patent's diffusion (column encoding).
+    #[arg(long, value_enum, default_value_t = InitArg::Optimizer)]
+    pub init: InitArg,
+    /// Corner rule of the walk encoding (loose = seed 003's literal rule).
+    #[arg(long, value_enum, default_value_t = CornerArg::Strict)]
+    pub corner_rule: CornerArg,
+    /// Skip the patent's node pruning.
+    #[arg(long)]
+    pub no_prune: bool,
+    /// Corridor encoding: guide length between stations.
+    #[arg(long)]
+    pub corridor_spacing: Option<f32>,
+    /// Corridor encoding: lateral reach of a waypoint.
+    #[arg(long)]
+    pub corridor_radius: Option<f32>,
+    /// Walk encoding: maximum steps.
+    #[arg(long)]
+    pub walk_steps: Option<usize>,
+}
+
+/// `--encoding` values.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub enum Algo {
-    /// A*: shortest 8-connected path (octile costs, no corner cutting).
-    Astar,
-    /// Theta*: any-angle path, never longer than A*'s.
-    Theta,
+pub enum EncodingArg {
+    /// Waypoints across an exact guide route (any map).
+    Corridor,
+    /// Seed 000's column encoding.
+    Column,
+    /// Seed 003's 8-connected walk.
+    Walk,
 }
 
-impl Algo {
-    fn name(self) -> &'static str {
-        match self {
-            Algo::Astar => "astar",
-            Algo::Theta => "theta",
-        }
+/// `--init` values.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum InitArg {
+    /// The optimizer's own initialisation.
+    Optimizer,
+    /// The patent's square-neighbourhood diffusion.
+    Diffusion,
+}
+
+/// `--corner-rule` values.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum CornerArg {
+    /// No corner cutting (SPEC).
+    Strict,
+    /// Seed 003's rule.
+    Loose,
+}
+
+impl SwarmArgs {
+    /// The planner-core parameters these options describe, for `seed`.
+    pub fn params(&self, seed: u64) -> (PlanParams, AcoParams) {
+        let base = PlanParams::new(AlgorithmKind::Tclhho);
+        let params = PlanParams {
+            population: self.pop.unwrap_or(base.population),
+            iterations: self.iters.unwrap_or(base.iterations),
+            stagnation: self.stagnation,
+            seed,
+            encoding: match self.encoding {
+                EncodingArg::Corridor => EncodingKind::Corridor,
+                EncodingArg::Column => EncodingKind::Column,
+                EncodingArg::Walk => EncodingKind::Walk,
+            },
+            init: match self.init {
+                InitArg::Optimizer => InitKind::Optimizer,
+                InitArg::Diffusion => InitKind::Diffusion,
+            },
+            corner_rule: match self.corner_rule {
+                CornerArg::Strict => CornerRule::Strict,
+                CornerArg::Loose => CornerRule::Loose,
+            },
+            prune: !self.no_prune,
+            corridor_spacing: self.corridor_spacing.unwrap_or(base.corridor_spacing),
+            corridor_radius: self.corridor_radius.unwrap_or(base.corridor_radius),
+            walk_steps: self.walk_steps.unwrap_or(base.walk_steps),
+            ..base
+        };
+        let aco_base = AcoParams::default();
+        let aco = AcoParams {
+            ants: self.pop.unwrap_or(aco_base.ants),
+            iterations: self.iters.unwrap_or(aco_base.iterations),
+            stagnation: self.stagnation,
+            seed,
+            prune: !self.no_prune,
+            ..aco_base
+        };
+        (params, aco)
     }
+}
+
+fn parse_planner(text: &str) -> Result<PlannerKind, String> {
+    text.parse().map_err(|_| {
+        let names: Vec<&str> = PlannerKind::ALL.iter().map(|k| k.name()).collect();
+        format!(
+            "unknown planner {text:?}; expected one of {}",
+            names.join(", ")
+        )
+    })
 }
 
 fn parse_xy(text: &str) -> Result<(i64, i64), String> {
@@ -127,11 +233,10 @@ pub fn parse_queries(text: &str) -> Vec<QueryLine> {
         .collect()
 }
 
-/// A map prepared for repeated queries: inflated grid, component labels, search storage.
+/// A map prepared for repeated queries: the inflated grid and the planners' scratch.
 pub struct PreparedMap {
     grid: Box<HostGrid>,
-    labels: Vec<u32>,
-    nodes: Vec<SearchNode>,
+    planner: HostPlanner,
     path: Box<Path<PATH_CAPACITY>>,
 }
 
@@ -147,12 +252,8 @@ pub struct Outcome {
 pub struct PlanSummary {
     /// Waypoints (cell units).
     pub path: Vec<[f32; 2]>,
-    /// Path length.
-    pub length: f32,
-    /// Direction changes.
-    pub turns: usize,
-    /// Cells expanded by the search.
-    pub expanded: u32,
+    /// The planner's figures.
+    pub outcome: planner_core::planner::owned::Outcome,
 }
 
 impl PreparedMap {
@@ -161,55 +262,59 @@ impl PreparedMap {
         let mut inflated = Box::new(HostGrid::new(1, 1).map_err(anyhow::Error::msg)?);
         grid.inflate_into(radius, &mut inflated)
             .map_err(anyhow::Error::msg)?;
-        let cells = inflated.view().cells();
-        let mut labels = vec![0u32; cells];
-        connectivity::label(inflated.view(), &mut labels).map_err(anyhow::Error::msg)?;
+        let mut planner = HostPlanner::new();
+        planner
+            .prepare(inflated.view())
+            .map_err(anyhow::Error::msg)?;
         Ok(PreparedMap {
             grid: inflated,
-            labels,
-            nodes: vec![SearchNode::EMPTY; cells],
+            planner,
             path: Box::new(Path::new()),
         })
     }
 
-    /// Plans one query with `algo`.
-    pub fn plan(&mut self, algo: Algo, query: Query) -> Outcome {
+    /// Plans one query; `history` receives the best cost per iteration (swarm planners).
+    pub fn plan(
+        &mut self,
+        kind: PlannerKind,
+        params: &PlanParams,
+        aco: &AcoParams,
+        query: Query,
+        history: &mut [f32],
+    ) -> Outcome {
         let began = Instant::now();
-        let result = self.plan_inner(algo, query);
+        let result = self.plan_inner(kind, params, aco, query, history);
         Outcome {
             result,
             time_us: began.elapsed().as_secs_f64() * 1e6,
         }
     }
 
-    fn plan_inner(&mut self, algo: Algo, query: Query) -> Result<PlanSummary, PlanError> {
+    fn plan_inner(
+        &mut self,
+        kind: PlannerKind,
+        params: &PlanParams,
+        aco: &AcoParams,
+        query: Query,
+        history: &mut [f32],
+    ) -> Result<PlanSummary, PlanError> {
         let start = to_cell(query.start).ok_or(PlanError::StartOutsideMap)?;
         let goal = to_cell(query.goal).ok_or(PlanError::GoalOutsideMap)?;
-        let grid = self.grid.view();
         let out: &mut PathView = &mut *self.path;
-        let stats = match algo {
-            Algo::Astar => astar::plan_with_labels(
-                grid,
-                start,
-                goal,
-                Some(&self.labels),
-                &mut self.nodes,
-                out,
-            )?,
-            Algo::Theta => theta::plan_with_labels(
-                grid,
-                start,
-                goal,
-                Some(&self.labels),
-                &mut self.nodes,
-                out,
-            )?,
-        };
+        let outcome = self.planner.plan(
+            self.grid.view(),
+            kind,
+            start,
+            goal,
+            params,
+            aco,
+            out,
+            history,
+            &mut || false,
+        )?;
         Ok(PlanSummary {
             path: out.iter().map(|p| [p.x, p.y]).collect(),
-            length: stats.length,
-            turns: path::turns(out),
-            expanded: stats.expanded,
+            outcome,
         })
     }
 }
@@ -240,7 +345,7 @@ fn micros(t: f64) -> Value {
 }
 
 /// The JSON line of one query.
-pub fn outcome_json(algo: Algo, seed: u64, query: Query, outcome: &Outcome) -> Value {
+pub fn outcome_json(kind: PlannerKind, seed: u64, query: Query, outcome: &Outcome) -> Value {
     let mut map = serde_json::Map::new();
     map.insert("start".into(), json!([query.start.0, query.start.1]));
     map.insert("goal".into(), json!([query.goal.0, query.goal.1]));
@@ -255,17 +360,28 @@ pub fn outcome_json(algo: Algo, seed: u64, query: Query, outcome: &Outcome) -> V
                         .collect(),
                 ),
             );
-            map.insert("length".into(), num(s.length));
+            map.insert("length".into(), num(s.outcome.length));
             map.insert("time_us".into(), micros(outcome.time_us));
-            map.insert("turns".into(), json!(s.turns));
-            map.insert("expanded".into(), json!(s.expanded));
+            map.insert("turns".into(), json!(s.outcome.turns));
+            if let Some(e) = s.outcome.expanded {
+                map.insert("expanded".into(), json!(e));
+            }
+            if let Some(r) = &s.outcome.report {
+                map.insert("evaluations".into(), json!(r.evaluations));
+                map.insert("iterations".into(), json!(r.iterations));
+                map.insert("best_iteration".into(), json!(r.best_iteration));
+                map.insert("initial_cost".into(), num(r.initial_cost));
+                map.insert("final_cost".into(), num(r.final_cost));
+                map.insert("dimension".into(), json!(r.dimension));
+                map.insert("stop".into(), json!(r.stop.name()));
+            }
         }
         Err(e) => {
             map.insert("error".into(), json!(e.name()));
             map.insert("time_us".into(), micros(outcome.time_us));
         }
     }
-    map.insert("algo".into(), json!(algo.name()));
+    map.insert("algo".into(), json!(kind.name()));
     map.insert("seed".into(), json!(seed));
     Value::Object(map)
 }
@@ -274,6 +390,7 @@ pub fn outcome_json(algo: Algo, seed: u64, query: Query, outcome: &Outcome) -> V
 pub fn run(args: &PlanArgs) -> anyhow::Result<()> {
     let grid = load_movingai(&args.map)?;
     let mut prepared = PreparedMap::new(&grid, args.radius).context("invalid --radius")?;
+    let (params, aco) = args.swarm.params(args.seed);
     let lines = match (&args.queries, args.start, args.goal) {
         (Some(file), _, _) => {
             let text = std::fs::read_to_string(file)
@@ -294,7 +411,8 @@ pub fn run(args: &PlanArgs) -> anyhow::Result<()> {
     for line in lines {
         let value = match line {
             QueryLine::Query(q) => {
-                outcome_json(args.algo, args.seed, q, &prepared.plan(args.algo, q))
+                let outcome = prepared.plan(args.algo, &params, &aco, q, &mut []);
+                outcome_json(args.algo, args.seed, q, &outcome)
             }
             QueryLine::Malformed { line, detail } => {
                 json!({"line": line, "error": "MalformedQuery", "detail": detail})
@@ -337,14 +455,20 @@ mod tests {
         let grid = HostGrid::parse_rows(b"...\n...\n").unwrap();
         let mut map = PreparedMap::new(&grid, 0.0).unwrap();
         let q = |s, g| Query { start: s, goal: g };
-        assert!(matches!(
-            map.plan(Algo::Astar, q((-1, 0), (0, 0))).result,
-            Err(PlanError::StartOutsideMap)
-        ));
-        assert!(matches!(
-            map.plan(Algo::Theta, q((0, 0), (0, 70000))).result,
-            Err(PlanError::GoalOutsideMap)
-        ));
-        assert!(map.plan(Algo::Theta, q((0, 0), (2, 1))).result.is_ok());
+        let (p, a) = (PlanParams::new(AlgorithmKind::Tclhho), AcoParams::default());
+        for kind in PlannerKind::ALL {
+            let r = map.plan(kind, &p, &a, q((-1, 0), (0, 0)), &mut []).result;
+            assert!(matches!(r, Err(PlanError::StartOutsideMap)), "{kind:?}");
+            let r = map
+                .plan(kind, &p, &a, q((0, 0), (0, 70000)), &mut [])
+                .result;
+            assert!(matches!(r, Err(PlanError::GoalOutsideMap)), "{kind:?}");
+            assert!(
+                map.plan(kind, &p, &a, q((0, 0), (2, 1)), &mut [])
+                    .result
+                    .is_ok(),
+                "{kind:?}"
+            );
+        }
     }
 }

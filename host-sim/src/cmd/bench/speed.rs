@@ -1,0 +1,178 @@
+//! `host-sim bench speed`: time per plan of the swarm planners as a ratio to A* on the same
+//! queries in the same process, with and without stagnation stopping, and the lengths, so
+//! that the cost and the benefit of stopping early are both visible.
+
+use super::{fmt, mean_std, print_table, write_json};
+use crate::maps::{HostGrid, load_movingai};
+use anyhow::Context;
+use planner_core::grid::words_for;
+use planner_core::maps::{MapKind, seed000};
+use planner_core::optim::any::AlgorithmKind;
+use planner_core::path::{Path, PathView};
+use planner_core::planner::aco::AcoParams;
+use planner_core::planner::owned::HostPlanner;
+use planner_core::planner::{EncodingKind, PlanParams, PlannerKind};
+use std::path::PathBuf;
+use std::time::Instant;
+
+use super::movingai::{ScenRow, read_scen};
+
+/// Arguments of `host-sim bench speed`.
+#[derive(clap::Args, Debug)]
+pub struct SpeedArgs {
+    /// Folder with the Moving AI files.
+    #[arg(long, default_value = "tests/data/movingai")]
+    pub data: PathBuf,
+    /// Queries on the Moving AI map.
+    #[arg(long, default_value_t = 50)]
+    pub rows: usize,
+    /// Repetitions of the seed-map query.
+    #[arg(long, default_value_t = 20)]
+    pub repeats: usize,
+    /// Planners to time.
+    #[arg(long, value_delimiter = ',', default_value = "tclhho,igwo")]
+    pub algos: Vec<String>,
+    /// Stagnation window for the early-stopping rows.
+    #[arg(long, default_value_t = 50)]
+    pub stagnation: u32,
+    /// Output folder.
+    #[arg(long, default_value = "bench-out/speed")]
+    pub out: PathBuf,
+}
+
+/// Runs `host-sim bench speed`.
+pub fn run(args: &SpeedArgs) -> anyhow::Result<()> {
+    std::fs::create_dir_all(&args.out)
+        .with_context(|| format!("cannot create {}", args.out.display()))?;
+    let seed_map = seed000::<{ words_for(40, 40) }>(MapKind::Warehouse, 40)
+        .map_err(|e| anyhow::anyhow!("{e:?}"))?;
+    let mut seed_grid = Box::new(HostGrid::new(40, 40).map_err(anyhow::Error::msg)?);
+    for y in 0..40 {
+        for x in 0..40 {
+            seed_grid
+                .set_blocked(
+                    x,
+                    y,
+                    seed_map.grid.view().is_blocked(x as isize, y as isize),
+                )
+                .map_err(anyhow::Error::msg)?;
+        }
+    }
+    let seed_rows = vec![
+        ScenRow {
+            start: seed_map.start,
+            goal: seed_map.goal,
+            optimal: f64::NAN
+        };
+        args.repeats
+    ];
+    let wh = load_movingai(&args.data.join("warehouse-10-20-10-2-1.map"))?;
+    let text = std::fs::read_to_string(args.data.join("warehouse-10-20-10-2-1-random-1.scen"))?;
+    let wh_rows: Vec<ScenRow> = read_scen(&text)?
+        .into_iter()
+        .filter(|r| r.optimal > 0.0)
+        .take(args.rows)
+        .collect();
+    let kinds: Vec<PlannerKind> = args
+        .algos
+        .iter()
+        .map(|a| {
+            a.parse()
+                .map_err(|_| anyhow::anyhow!("unknown planner {a}"))
+        })
+        .collect::<anyhow::Result<_>>()?;
+
+    let mut table = Vec::new();
+    let mut records = Vec::new();
+    let cases: [(&str, &HostGrid, &[ScenRow], EncodingKind); 3] = [
+        (
+            "seed000 warehouse 40x40",
+            &seed_grid,
+            &seed_rows,
+            EncodingKind::Corridor,
+        ),
+        (
+            "seed000 warehouse 40x40",
+            &seed_grid,
+            &seed_rows,
+            EncodingKind::Column,
+        ),
+        (
+            "warehouse-10-20-10-2-1",
+            &wh,
+            &wh_rows,
+            EncodingKind::Corridor,
+        ),
+    ];
+    for (name, grid, rows, encoding) in cases {
+        let mut planner = HostPlanner::new();
+        planner.prepare(grid.view()).map_err(anyhow::Error::msg)?;
+        let mut out: Box<Path<65536>> = Box::new(Path::new());
+        let time = |planner: &mut HostPlanner,
+                    out: &mut PathView,
+                    kind: PlannerKind,
+                    params: &PlanParams|
+         -> (f64, f64) {
+            let (mut t, mut l) = (Vec::new(), Vec::new());
+            for (k, r) in rows.iter().enumerate() {
+                let params = PlanParams {
+                    seed: k as u64 + 1,
+                    ..*params
+                };
+                let began = Instant::now();
+                let res = planner.plan(
+                    grid.view(),
+                    kind,
+                    r.start,
+                    r.goal,
+                    &params,
+                    &AcoParams::default(),
+                    out,
+                    &mut [],
+                    &mut || false,
+                );
+                t.push(began.elapsed().as_secs_f64());
+                l.push(res.map_or(f64::NAN, |o| o.length as f64));
+            }
+            (mean_std(&t).0, mean_std(&l).0)
+        };
+        let base = PlanParams {
+            encoding,
+            ..PlanParams::new(AlgorithmKind::Tclhho)
+        };
+        let (t_astar, l_astar) = time(&mut planner, &mut *out, PlannerKind::AStar, &base);
+        table.push(vec![
+            name.into(),
+            "astar".into(),
+            "-".into(),
+            fmt(t_astar * 1e3, 3),
+            "1.0".into(),
+            fmt(l_astar, 3),
+        ]);
+        for &kind in &kinds {
+            for stagnation in [None, Some(args.stagnation)] {
+                let params = PlanParams { stagnation, ..base };
+                let (t, l) = time(&mut planner, &mut *out, kind, &params);
+                let label = format!("{} {}", kind.name(), encoding.name());
+                let stop =
+                    stagnation.map_or("500 iterations".to_string(), |s| format!("stagnation {s}"));
+                records.push(serde_json::json!({"map": name, "planner": label, "stop": stop, "ms": t * 1e3, "ratio_to_astar": t / t_astar, "mean_length": l}));
+                table.push(vec![
+                    name.into(),
+                    label,
+                    stop,
+                    fmt(t * 1e3, 3),
+                    fmt(t / t_astar, 1),
+                    fmt(l, 3),
+                ]);
+            }
+        }
+    }
+    print_table(
+        "Time per plan (population 30, 500 iterations), ratio to A* in the same run",
+        &["map", "planner", "stop", "ms/plan", "x A*", "mean length"],
+        &table,
+    );
+    write_json(&args.out.join("speed.json"), &records)?;
+    Ok(())
+}

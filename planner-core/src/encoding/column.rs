@@ -1,0 +1,155 @@
+//! Seed 000's column encoding: variable `j` is the row of the waypoint in map column
+//! `start.x + j`.
+//!
+//! The path is `start -> (start.x, x_0) -> (start.x + 1, x_1) -> ... -> (goal.x, x_last) ->
+//! goal`. Its length follows the paper's own 10 x 10 value (SPEC section 3):
+//! `L = |x_0 - r_start| + sum_j sqrt((x_j - x_{j-1})^2 + 1) + |r_goal - x_last|`, rows rounded
+//! and clamped to the map. Every segment is checked under the collision rule; each blocked
+//! one adds [`infeasible_penalty`](super::infeasible_penalty). Only x-monotone paths can be
+//! represented, so this is a reproduction mode, not the general planner.
+
+use super::{Encoding, infeasible_penalty};
+use crate::error::PlanError;
+use crate::geometry::{Cell, blocked_cells_touched};
+use crate::grid::GridRef;
+use crate::path::PathView;
+
+/// Seed 000's column encoding.
+#[derive(Clone, Copy, Debug)]
+pub struct ColumnEncoding<'g> {
+    grid: GridRef<'g>,
+    start: Cell,
+    goal: Cell,
+    penalty: f32,
+}
+
+impl<'g> ColumnEncoding<'g> {
+    /// The encoding for `start -> goal`; [`PlanError::InvalidParameters`] unless
+    /// `start.x <= goal.x` (the representable direction).
+    pub fn new(grid: GridRef<'g>, start: Cell, goal: Cell) -> Result<Self, PlanError> {
+        if start.x > goal.x {
+            return Err(PlanError::InvalidParameters);
+        }
+        Ok(ColumnEncoding {
+            grid,
+            start,
+            goal,
+            penalty: infeasible_penalty(grid),
+        })
+    }
+
+    fn row(&self, v: f32) -> u16 {
+        let max = (self.grid.height() - 1) as f32;
+        // NaN becomes 0 through the clamp's max/min order.
+        libm::roundf(v).max(0.0).min(max) as u16
+    }
+
+    /// Visits the path's vertices; returns (length, blocked cells touched).
+    fn walk(
+        &self,
+        x: &[f32],
+        mut visit: impl FnMut(Cell) -> Result<(), PlanError>,
+    ) -> Result<(f32, u32), PlanError> {
+        let mut length = 0.0;
+        let mut blocked = 0;
+        let mut prev = self.start;
+        visit(prev)?;
+        let step = |from: Cell, to: Cell, length: &mut f32, blocked: &mut u32| {
+            let dx = to.x as f32 - from.x as f32;
+            let dy = to.y as f32 - from.y as f32;
+            *length += crate::math::sqrt(dx * dx + dy * dy);
+            *blocked += blocked_cells_touched(self.grid, from, to);
+        };
+        for (j, &v) in x.iter().enumerate() {
+            let cell = Cell::new(self.start.x + j as u16, self.row(v));
+            step(prev, cell, &mut length, &mut blocked);
+            if cell != prev {
+                visit(cell)?;
+            }
+            prev = cell;
+        }
+        step(prev, self.goal, &mut length, &mut blocked);
+        if self.goal != prev {
+            visit(self.goal)?;
+        }
+        Ok((length, blocked))
+    }
+}
+
+impl Encoding for ColumnEncoding<'_> {
+    fn dim(&self) -> usize {
+        (self.goal.x - self.start.x) as usize + 1
+    }
+
+    fn bounds(&self, _i: usize) -> (f32, f32) {
+        (0.0, (self.grid.height() - 1) as f32)
+    }
+
+    fn cost(&mut self, x: &[f32]) -> f32 {
+        match self.walk(x, |_| Ok(())) {
+            Ok((length, blocked)) => length + self.penalty * blocked as f32,
+            Err(_) => f32::INFINITY,
+        }
+    }
+
+    fn decode(&mut self, x: &[f32], out: &mut PathView) -> Result<(), PlanError> {
+        out.clear();
+        let (_, blocked) = self.walk(x, |c| {
+            out.push(c.center())
+                .map_err(|_| PlanError::CapacityExceeded)
+        })?;
+        if blocked > 0 {
+            return Err(PlanError::BudgetExhausted);
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::grid::{Grid, words_for};
+    use crate::path::{Path, length, validate};
+
+    #[test]
+    fn reproduces_the_papers_10x10_length() {
+        // Rows 0 -> 9 over ten columns with five steps of 1 and two of 2: 2 + 5 sqrt2 + 2 sqrt5.
+        let g: Grid<{ words_for(10, 10) }> = Grid::new(10, 10).unwrap();
+        let mut enc = ColumnEncoding::new(g.view(), Cell::new(0, 0), Cell::new(9, 9)).unwrap();
+        let x = [1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 8.0, 8.0, 8.0, 10.4];
+        // |1-0| + (1,1,1,1,1 diagonal) sqrt2*5 + sqrt5 (6->8) + 1 + 1 + sqrt(1+1) (8->9 clamped) + 0
+        let want = 1.0 + 5.0 * 2f32.sqrt() + 5f32.sqrt() + 2.0 + 2f32.sqrt();
+        assert!((enc.cost(&x) - want).abs() < 1e-4);
+        let paper = [0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 7.0, 9.0, 9.0, 9.0];
+        let paper_len = enc.cost(&paper);
+        assert!((paper_len - 13.5432).abs() < 1e-3, "{paper_len}");
+        let mut p: Path<32> = Path::new();
+        enc.decode(&paper, &mut p).unwrap();
+        assert!((length(&p) - paper_len).abs() < 1e-4);
+        assert_eq!(
+            validate(g.view(), &p, Cell::new(0, 0), Cell::new(9, 9)),
+            Ok(())
+        );
+    }
+
+    #[test]
+    fn blocked_segments_are_penalised_and_not_decoded() {
+        let g: Grid<{ words_for(4, 4) }> = Grid::parse_rows(b"....\n.@..\n....\n....\n").unwrap();
+        let mut enc = ColumnEncoding::new(g.view(), Cell::new(0, 0), Cell::new(3, 3)).unwrap();
+        let through = [0.0, 2.0, 3.0, 3.0]; // (0,0)->(1,2) touches (1,1)? it passes x=0.5 at y=1.
+        assert!(enc.cost(&through) > infeasible_penalty(g.view()));
+        let mut p: Path<16> = Path::new();
+        assert_eq!(
+            enc.decode(&through, &mut p),
+            Err(PlanError::BudgetExhausted)
+        );
+        assert!(enc.cost(&[0.0, 0.0, 0.0, 3.0]) < 10.0);
+        assert!(enc.cost(&[f32::NAN, 0.0, 0.0, 3.0]).is_finite());
+    }
+
+    #[test]
+    fn start_right_of_goal_is_invalid() {
+        let g: Grid<{ words_for(4, 4) }> = Grid::new(4, 4).unwrap();
+        assert!(ColumnEncoding::new(g.view(), Cell::new(3, 0), Cell::new(0, 3)).is_err());
+    }
+}

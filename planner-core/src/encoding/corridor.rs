@@ -1,0 +1,326 @@
+//! The general encoding: waypoints that slide across an exact guide route.
+//!
+//! Seed 000's column encoding cannot turn back, and a free-form waypoint encoding leaves the
+//! optimizer to discover feasibility by itself (which is how the papers' GWO and TGWO failed
+//! on 30 x 30 warehouses). Here an exact reference route (the A* path, octile-optimal but
+//! stair-stepped) fixes the *homotopy* and guarantees feasibility; the optimizer decides the
+//! *geometry*, which is where any-angle length is won:
+//!
+//! - `K` stations are spread evenly along the guide; station `k` has a normal and the clear
+//!   extents `[-neg_k, pos_k]` (at most `radius`) along it;
+//! - variable `x_k` in `[-1, 1]` places waypoint `w_k = g_k + n_k * x_k * (pos_k or neg_k)`;
+//! - the path is `start, w_1, ..., w_K, goal`; a leg `w_k -> w_{k+1}` that is blocked is
+//!   *repaired* as `w_k -> g_k -> (guide) -> g_{k+1} -> w_{k+1}`, every part of which is clear
+//!   by construction, so every decision vector decodes to a valid path.
+//!
+//! The cost is the decoded length. Random decision vectors give zig-zags and detours; the
+//! optimizer's work is to pull the string taut within the corridor (the planner then prunes
+//! collinear nodes and shortcuts).
+
+use super::Encoding;
+use crate::error::PlanError;
+use crate::geometry::{Point, segment_is_clear};
+use crate::grid::GridRef;
+use crate::path::PathView;
+
+/// A station on the guide route.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Station {
+    /// Index of the station in the guide.
+    index: u32,
+    /// The guide point.
+    point: Point,
+    /// Unit normal of the guide at the station.
+    normal: (f32, f32),
+    /// Clear extent along `-normal`.
+    neg: f32,
+    /// Clear extent along `+normal`.
+    pos: f32,
+    /// Guide length from this station to the next.
+    arc_to_next: f32,
+}
+
+/// Step of the extent scan along a normal, in cells.
+const EXTENT_STEP: f32 = 0.25;
+
+/// The corridor encoding over a guide route.
+#[derive(Debug)]
+pub struct CorridorEncoding<'a> {
+    grid: GridRef<'a>,
+    guide: &'a [Point],
+    /// Stations `0..=K+1`: the start, `K` movable ones, the goal.
+    stations: &'a [Station],
+}
+
+impl<'a> CorridorEncoding<'a> {
+    /// Builds the stations over `guide` (a valid path, start first) into `stations`.
+    ///
+    /// `spacing` is the guide length between stations (cells); the number of movable stations
+    /// is capped by `max_vars` and by `stations.len() - 2`. `radius` caps the lateral reach.
+    /// Errors: [`PlanError::InvalidParameters`] for a NaN, infinite or non-positive `spacing`
+    /// or `radius`, or a guide with fewer than two points.
+    pub fn build(
+        grid: GridRef<'a>,
+        guide: &'a [Point],
+        spacing: f32,
+        radius: f32,
+        max_vars: usize,
+        stations: &'a mut [Station],
+    ) -> Result<Self, PlanError> {
+        if !(spacing.is_finite() && spacing > 0.0 && radius.is_finite() && radius > 0.0)
+            || guide.len() < 2
+        {
+            return Err(PlanError::InvalidParameters);
+        }
+        let last = guide.len() - 1;
+        // Candidate stations: every bend of the guide (where length is won by cutting the
+        // corner) and evenly spaced points on runs longer than `spacing`.
+        let candidates = |emit: &mut dyn FnMut(usize)| {
+            let mut run_start = 0usize;
+            for i in 1..=last {
+                let bend = i < last && !same_heading(guide[i - 1], guide[i], guide[i + 1]);
+                if bend || i == last {
+                    let run = guide[run_start].distance(guide[i]);
+                    let extra = libm::ceilf(run / spacing) as usize;
+                    let steps = i - run_start;
+                    for e in 1..extra.min(steps) {
+                        emit(run_start + e * steps / extra.min(steps));
+                    }
+                    if bend {
+                        emit(i);
+                    }
+                    run_start = i;
+                }
+            }
+        };
+        let mut count = 0usize;
+        candidates(&mut |_| count += 1);
+        let k = count.min(max_vars).min(stations.len().saturating_sub(2));
+        // Thin evenly when there are more candidates than variables.
+        stations[0] = Station {
+            index: 0,
+            point: guide[0],
+            ..Station::default()
+        };
+        let mut seen = 0usize;
+        let mut kept = 0usize;
+        candidates(&mut |index| {
+            // Exactly k of the count candidates, evenly: keep the ones where floor(seen k / count) steps.
+            if kept < k && (seen + 1) * k / count > seen * k / count {
+                kept += 1;
+                stations[kept] = Station {
+                    index: index as u32,
+                    point: guide[index],
+                    ..Station::default()
+                };
+            }
+            seen += 1;
+        });
+        let k = kept;
+        stations[k + 1] = Station {
+            index: last as u32,
+            point: guide[last],
+            ..Station::default()
+        };
+        for s in 0..k + 2 {
+            let i = stations[s].index as usize;
+            if s + 1 < k + 2 {
+                let j = stations[s + 1].index as usize;
+                stations[s].arc_to_next = crate::path::length(&guide[i..=j]);
+            }
+            if s == 0 || s == k + 1 {
+                continue;
+            }
+            let (a, b) = (guide[i - 1], guide[i + 1]);
+            let (dx, dy) = (b.x - a.x, b.y - a.y);
+            let len = crate::math::sqrt(dx * dx + dy * dy);
+            let normal = if len > 0.0 {
+                (-dy / len, dx / len)
+            } else {
+                (0.0, 1.0)
+            };
+            let g = guide[i];
+            let reach = |sign: f32| {
+                let mut ext = 0.0;
+                let mut t = EXTENT_STEP;
+                while t <= radius {
+                    let p = Point::new(g.x + sign * t * normal.0, g.y + sign * t * normal.1);
+                    if !segment_is_clear(grid, g, p) {
+                        break;
+                    }
+                    ext = t;
+                    t += EXTENT_STEP;
+                }
+                ext
+            };
+            stations[s].normal = normal;
+            stations[s].pos = reach(1.0);
+            stations[s].neg = reach(-1.0);
+        }
+        Ok(CorridorEncoding {
+            grid,
+            guide,
+            stations: &stations[..k + 2],
+        })
+    }
+
+    /// The guide indices of the movable stations.
+    pub fn station_indices(&self) -> impl Iterator<Item = usize> + '_ {
+        self.stations[1..self.stations.len() - 1]
+            .iter()
+            .map(|s| s.index as usize)
+    }
+
+    fn waypoint(&self, s: usize, x: &[f32]) -> Point {
+        let st = &self.stations[s];
+        if s == 0 || s + 1 == self.stations.len() {
+            return st.point;
+        }
+        let v = x.get(s - 1).copied().unwrap_or(0.0);
+        let v = if v.is_finite() {
+            v.clamp(-1.0, 1.0)
+        } else {
+            0.0
+        };
+        let t = if v >= 0.0 { v * st.pos } else { v * st.neg };
+        Point::new(st.point.x + t * st.normal.0, st.point.y + t * st.normal.1)
+    }
+}
+
+impl Encoding for CorridorEncoding<'_> {
+    fn dim(&self) -> usize {
+        self.stations.len() - 2
+    }
+
+    fn bounds(&self, _i: usize) -> (f32, f32) {
+        (-1.0, 1.0)
+    }
+
+    fn cost(&mut self, x: &[f32]) -> f32 {
+        let mut total = 0.0;
+        let mut a = self.waypoint(0, x);
+        for s in 0..self.stations.len() - 1 {
+            let b = self.waypoint(s + 1, x);
+            total += if segment_is_clear(self.grid, a, b) {
+                a.distance(b)
+            } else {
+                a.distance(self.stations[s].point)
+                    + self.stations[s].arc_to_next
+                    + self.stations[s + 1].point.distance(b)
+            };
+            a = b;
+        }
+        total
+    }
+
+    fn decode(&mut self, x: &[f32], out: &mut PathView) -> Result<(), PlanError> {
+        out.clear();
+        let push = |out: &mut PathView, p: Point| {
+            if out.last() != Some(&p) {
+                out.push(p).map_err(|_| PlanError::CapacityExceeded)?;
+            }
+            Ok(())
+        };
+        let mut a = self.waypoint(0, x);
+        push(out, a)?;
+        for s in 0..self.stations.len() - 1 {
+            let b = self.waypoint(s + 1, x);
+            if !segment_is_clear(self.grid, a, b) {
+                let (i, j) = (
+                    self.stations[s].index as usize,
+                    self.stations[s + 1].index as usize,
+                );
+                for &g in &self.guide[i..j] {
+                    push(out, g)?;
+                }
+                push(out, self.stations[s + 1].point)?;
+            }
+            push(out, b)?;
+            a = b;
+        }
+        Ok(())
+    }
+}
+
+/// Whether `a -> b -> c` keeps its heading (no bend at `b`).
+fn same_heading(a: Point, b: Point, c: Point) -> bool {
+    let (u, v) = ((b.x - a.x, b.y - a.y), (c.x - b.x, c.y - b.y));
+    u.0 * v.1 - u.1 * v.0 == 0.0 && u.0 * v.0 + u.1 * v.1 > 0.0
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::Cell;
+    use crate::grid::{Grid, words_for};
+    use crate::path::{Path, length, validate};
+    use crate::search::{SearchNode, astar};
+
+    type G = Grid<{ words_for(32, 32) }>;
+
+    fn guide_for(g: &G, s: Cell, t: Cell) -> Path<256> {
+        let mut nodes = [SearchNode::EMPTY; 1024];
+        let mut p = Path::new();
+        astar::plan(g.view(), s, t, &mut nodes, &mut p).unwrap();
+        p
+    }
+
+    #[test]
+    fn every_decision_vector_decodes_to_a_valid_path_of_its_cost() {
+        let g = G::parse_rows(
+            b"..........\n..@@@@@...\n..@.......\n..@.@@@@..\n....@.....\n@@@@@..@@.\n..........\n",
+        )
+        .unwrap();
+        let (s, t) = (Cell::new(0, 0), Cell::new(0, 6));
+        let guide = guide_for(&g, s, t);
+        let mut buf = [Station::default(); 16];
+        let mut enc = CorridorEncoding::build(g.view(), &guide, 2.0, 4.0, 14, &mut buf).unwrap();
+        assert!(enc.dim() >= 3);
+        let mut state = 12345u32;
+        for _ in 0..500 {
+            let x: heapless::Vec<f32, 16> = (0..enc.dim())
+                .map(|_| {
+                    state ^= state << 13;
+                    state ^= state >> 17;
+                    state ^= state << 5;
+                    (state % 2001) as f32 / 1000.0 - 1.0
+                })
+                .collect();
+            let mut p: Path<512> = Path::new();
+            enc.decode(&x, &mut p).unwrap();
+            assert_eq!(validate(g.view(), &p, s, t), Ok(()), "{x:?}");
+            assert!((length(&p) - enc.cost(&x)).abs() < 1e-3);
+        }
+    }
+
+    #[test]
+    fn zero_offsets_follow_the_guide_and_extents_stay_clear() {
+        let g = G::parse_rows(b"........\n.@@@@@@.\n........\n").unwrap();
+        let (s, t) = (Cell::new(0, 0), Cell::new(7, 2));
+        let guide = guide_for(&g, s, t);
+        let mut buf = [Station::default(); 8];
+        let mut enc = CorridorEncoding::build(g.view(), &guide, 1.0, 3.0, 6, &mut buf).unwrap();
+        let zero = [0.0; 6];
+        assert!((enc.cost(&zero[..enc.dim()]) - length(&guide)).abs() < 1e-4);
+        for st in enc.stations {
+            for sign in [-1.0, 1.0] {
+                let ext = if sign > 0.0 { st.pos } else { st.neg };
+                let p = Point::new(
+                    st.point.x + sign * ext * st.normal.0,
+                    st.point.y + sign * ext * st.normal.1,
+                );
+                assert!(segment_is_clear(g.view(), st.point, p));
+            }
+        }
+    }
+
+    #[test]
+    fn bad_parameters_are_errors() {
+        let g = G::new(4, 4).unwrap();
+        let guide = guide_for(&g, Cell::new(0, 0), Cell::new(3, 3));
+        let mut buf = [Station::default(); 8];
+        assert!(CorridorEncoding::build(g.view(), &guide, f32::NAN, 3.0, 4, &mut buf).is_err());
+        assert!(CorridorEncoding::build(g.view(), &guide, 1.0, 0.0, 4, &mut buf).is_err());
+        assert!(CorridorEncoding::build(g.view(), &guide[..1], 1.0, 1.0, 4, &mut buf).is_err());
+    }
+}

@@ -1,0 +1,502 @@
+//! Harris Hawks Optimization (Heidari et al. 2019) and TCLHHO (seed 000), one implementation.
+//!
+//! The authors' `HHO.m` is the oracle: in-place updates, per-hawk scalars, `E0 ~ U(-1, 1)`
+//! redrawn per hawk and iteration, `|E| >= 1` explores, otherwise soft/hard besiege and the two
+//! progressive rapid dives (`Y` first, `Z = Y + S .* Levy` only if `Y` did not improve; neither
+//! replaces the hawk unless it improves). Differences from `HHO.m`, all asked by SPEC: every
+//! new position is clamped and evaluated at once (so the rabbit follows every improving
+//! evaluation and the final moves are not lost), and the hawk's cost is cached instead of being
+//! re-evaluated in the dive comparisons.
+//!
+//! TCLHHO is HHO with [`HhoParams::tclhho`]: Tent initialisation, exponential escape energy
+//! (`a = 1.2`), and the Cauchy / opposition mutation of the rabbit once per iteration.
+//!
+//! ```
+//! use planner_core::optim::{Bounds, Optimizer, Settings, Stop};
+//! use planner_core::optim::hho::{Hho, HhoParams};
+//!
+//! let bounds = Bounds::<10>::uniform(10, -100.0, 100.0)?;
+//! let settings = Settings { population: 30, iterations: 300, seed: 1 };
+//! let mut hawks = Hho::<30, 10>::new(settings, &bounds, HhoParams::tclhho())?;
+//! let mut shifted = |x: &[f32]| x.iter().map(|v| (v - 37.5) * (v - 37.5)).sum::<f32>();
+//! let report = hawks.run(&mut shifted, None, &Stop::default(), &mut [])?;
+//! assert!(report.best_cost < 1.0); // HHO steps scale with |rabbit|: shifted optima cost precision
+//! assert!(report.evaluations > 30 * 300); // dives and mutations evaluate extra points
+//! # Ok::<(), planner_core::optim::OptimError>(())
+//! ```
+
+use super::schedule::{EscapeEnergy, Schedule};
+use super::{
+    Bounds, Initialisation, Objective, OptimError, Optimizer, Settings, Swarm, check_param,
+    swarm_accessors,
+};
+
+/// Where TCLHHO's Cauchy / opposition mutation of the rabbit happens.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub enum Mutation {
+    /// No mutation (HHO).
+    Off,
+    /// Once per iteration after all hawks moved, on a copy of the rabbit, kept only if better
+    /// (seed 000 text, section 2.3; the default for TCLHHO).
+    AfterUpdates,
+    /// Literal reading of seed 000's algorithm 1: a hawk with `|E| >= 1` takes the mutated
+    /// rabbit *instead of* exploring (unconditionally, like the exploration it replaces).
+    ReplacesExploration,
+}
+
+/// How the opposition branch of the mutation (`P < 0.5`) is computed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub enum OppositionForm {
+    /// `Xo = K1 (ub + lb) - Xb`, `X' = Xo + K2 (Xb - Xo)` (seed 000 eq. 17-18, SPEC).
+    Interpolated,
+    /// Literal seed 000 eq. 19: `X' = K2 (Xb - (K1 (ub + lb) - Xb))`.
+    Literal,
+}
+
+/// Options of the HHO family.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct HhoParams {
+    /// Initial population.
+    pub init: Initialisation,
+    /// The escape energy schedule `E1`.
+    pub energy: EscapeEnergy,
+    /// The Cauchy / opposition mutation of the rabbit.
+    pub mutation: Mutation,
+    /// The opposition formula of the mutation.
+    pub opposition: OppositionForm,
+    /// Factor on the Mantegna Levy step (the paper's 0.01).
+    pub levy_scale: f32,
+}
+
+impl HhoParams {
+    /// Plain HHO: uniform init, `E1 = 2 (1 - t/T)`, no mutation.
+    pub const fn hho() -> Self {
+        Self {
+            init: Initialisation::Uniform,
+            energy: EscapeEnergy::Linear,
+            mutation: Mutation::Off,
+            opposition: OppositionForm::Interpolated,
+            levy_scale: 0.01,
+        }
+    }
+
+    /// TCLHHO as SPEC resolves seed 000: Tent init, `a = 1.2`, mutation after the updates.
+    pub const fn tclhho() -> Self {
+        Self {
+            init: Initialisation::TENT,
+            energy: EscapeEnergy::TCLHHO,
+            mutation: Mutation::AfterUpdates,
+            opposition: OppositionForm::Interpolated,
+            levy_scale: 0.01,
+        }
+    }
+
+    /// TCLHHO read literally from algorithm 1: `a = 0.5`, mutation in place of exploration,
+    /// eq. 19's opposition.
+    pub const fn tclhho_literal() -> Self {
+        Self {
+            init: Initialisation::TENT,
+            energy: EscapeEnergy::TCLHHO_PSEUDOCODE,
+            mutation: Mutation::ReplacesExploration,
+            opposition: OppositionForm::Literal,
+            levy_scale: 0.01,
+        }
+    }
+
+    fn validate(&self) -> Result<(), OptimError> {
+        self.init.validate()?;
+        self.energy.validate()?;
+        check_param(self.levy_scale, 0.0, f32::MAX, "levy_scale")
+    }
+}
+
+/// HHO / TCLHHO with capacity `N` hawks of `D` dimensions.
+#[derive(Debug, Clone)]
+pub struct Hho<const N: usize, const D: usize> {
+    swarm: Swarm<N, D>,
+    params: HhoParams,
+    /// Running sum of the hawks' positions, for the mean `X_m` of the in-place population.
+    sum: [f32; D],
+    /// Candidate `Y` (and the new position of non-dive moves).
+    y: [f32; D],
+    /// Candidate `Z`.
+    z: [f32; D],
+}
+
+impl<const N: usize, const D: usize> Hho<N, D> {
+    /// Validates and builds; call [`Optimizer::init`] next. Needs at least 2 hawks.
+    pub fn new(
+        settings: Settings,
+        bounds: &Bounds<D>,
+        params: HhoParams,
+    ) -> Result<Self, OptimError> {
+        let mut s = Self::unconfigured();
+        s.configure(settings, bounds, params)?;
+        Ok(s)
+    }
+
+    /// An unconfigured instance for `const`/`static` initialisers (firmware keeps the state
+    /// in a `static` and calls [`configure`](Self::configure) on it, so no large temporary
+    /// passes through the stack); `init` fails until it is configured.
+    pub const fn unconfigured() -> Self {
+        Self {
+            swarm: Swarm::unconfigured(),
+            params: HhoParams::hho(),
+            sum: [0.0; D],
+            y: [0.0; D],
+            z: [0.0; D],
+        }
+    }
+
+    /// Validates and takes a configuration in place (needs at least 2 members); on
+    /// error nothing changes. Call [`Optimizer::init`] next.
+    pub fn configure(
+        &mut self,
+        settings: Settings,
+        bounds: &Bounds<D>,
+        params: HhoParams,
+    ) -> Result<(), OptimError> {
+        params.validate()?;
+        self.swarm.configure(settings, bounds, 2)?;
+        self.params = params;
+        Ok(())
+    }
+
+    /// The options in use.
+    pub fn params(&self) -> &HhoParams {
+        &self.params
+    }
+
+    fn recompute_sum(&mut self) {
+        self.sum = [0.0; D];
+        for i in 0..self.swarm.n() {
+            for (s, v) in self.sum.iter_mut().zip(self.swarm.pop.position(i)) {
+                *s += v;
+            }
+        }
+    }
+
+    /// Moves hawk `i` to `self.y` with cost `cost`, keeping the running sum.
+    fn move_hawk_to_y(&mut self, i: usize, cost: f32) {
+        for ((s, old), new) in self
+            .sum
+            .iter_mut()
+            .zip(self.swarm.pop.position(i))
+            .zip(&self.y)
+        {
+            *s += new - old;
+        }
+        let dim = self.swarm.dim();
+        self.swarm
+            .pop
+            .replace(i, self.y.get(..dim).unwrap_or(&[]), cost);
+    }
+
+    fn move_hawk_to_z(&mut self, i: usize, cost: f32) {
+        core::mem::swap(&mut self.y, &mut self.z);
+        self.move_hawk_to_y(i, cost);
+    }
+
+    /// Writes the mutated rabbit into `self.y` (draws `P`, then Cauchy or `K1, K2`).
+    fn mutate_rabbit(&mut self) {
+        let sw = &mut self.swarm;
+        let p = sw.rng.unit();
+        let best = sw.tracker.best();
+        if p >= 0.5 {
+            for (y, b) in self.y.iter_mut().zip(best) {
+                *y = b + b * sw.rng.cauchy();
+            }
+        } else {
+            let k1 = sw.rng.unit();
+            let k2 = sw.rng.unit();
+            for (((y, b), l), u) in self
+                .y
+                .iter_mut()
+                .zip(best)
+                .zip(sw.bounds.lower())
+                .zip(sw.bounds.upper())
+            {
+                let xo = k1 * (u + l) - b;
+                *y = match self.params.opposition {
+                    OppositionForm::Interpolated => xo + k2 * (b - xo),
+                    OppositionForm::Literal => k2 * (b - xo),
+                };
+            }
+        }
+    }
+
+    fn evaluate_y<O: Objective + ?Sized>(&mut self, objective: &mut O) -> f32 {
+        let dim = self.swarm.dim();
+        let y = self.y.get_mut(..dim).unwrap_or(&mut []);
+        self.swarm.clamp_and_evaluate(objective, y)
+    }
+
+    fn evaluate_z<O: Objective + ?Sized>(&mut self, objective: &mut O) -> f32 {
+        let dim = self.swarm.dim();
+        let z = self.z.get_mut(..dim).unwrap_or(&mut []);
+        self.swarm.clamp_and_evaluate(objective, z)
+    }
+
+    /// `|E| >= 1`: perch on a random hawk or relative to the rabbit and the mean.
+    fn explore(&mut self, i: usize) {
+        let n = self.swarm.n();
+        let inv_n = 1.0 / n as f32;
+        let sw = &mut self.swarm;
+        let q = sw.rng.unit();
+        let k = sw.rng.index(n);
+        if q < 0.5 {
+            let r1 = sw.rng.unit();
+            let r2 = sw.rng.unit();
+            for ((y, xr), x) in self
+                .y
+                .iter_mut()
+                .zip(sw.pop.position(k))
+                .zip(sw.pop.position(i))
+            {
+                *y = xr - r1 * libm::fabsf(xr - 2.0 * r2 * x);
+            }
+        } else {
+            let r3 = sw.rng.unit();
+            let r4 = sw.rng.unit();
+            let rabbit = sw.tracker.best();
+            for ((((y, rb), s), l), u) in self
+                .y
+                .iter_mut()
+                .zip(rabbit)
+                .zip(&self.sum)
+                .zip(sw.bounds.lower())
+                .zip(sw.bounds.upper())
+            {
+                *y = (rb - s * inv_n) - r3 * (l + r4 * (u - l));
+            }
+        }
+    }
+
+    /// The dive target `rabbit - E |J rabbit - base|` into `self.y`, `base` = hawk or mean.
+    fn dive_target(&mut self, i: usize, e: f32, j: f32, from_mean: bool) {
+        let inv_n = 1.0 / self.swarm.n() as f32;
+        let sw = &self.swarm;
+        let rabbit = sw.tracker.best();
+        let x = sw.pop.position(i);
+        for (d, (y, rb)) in self.y.iter_mut().zip(rabbit).enumerate() {
+            let base = if from_mean {
+                self.sum.get(d).copied().unwrap_or(0.0) * inv_n
+            } else {
+                x.get(d).copied().unwrap_or(0.0)
+            };
+            *y = rb - e * libm::fabsf(j * rb - base);
+        }
+    }
+
+    fn dive<O: Objective + ?Sized>(
+        &mut self,
+        objective: &mut O,
+        i: usize,
+        e: f32,
+        from_mean: bool,
+    ) {
+        let j = 2.0 * (1.0 - self.swarm.rng.unit());
+        self.dive_target(i, e, j, from_mean);
+        let current = self.swarm.pop.cost(i);
+        let fy = self.evaluate_y(objective);
+        if fy < current {
+            self.move_hawk_to_y(i, fy);
+            return;
+        }
+        let scale = self.params.levy_scale;
+        let sw = &mut self.swarm;
+        let dim = sw.dim();
+        for (z, y) in self.z.iter_mut().zip(&self.y).take(dim) {
+            let s = sw.rng.unit();
+            *z = y + s * scale * sw.rng.levy();
+        }
+        let fz = self.evaluate_z(objective);
+        if fz < current {
+            self.move_hawk_to_z(i, fz);
+        }
+    }
+}
+
+impl<const N: usize, const D: usize> Optimizer for Hho<N, D> {
+    fn init<O: Objective + ?Sized>(
+        &mut self,
+        objective: &mut O,
+        initial: Option<&[&[f32]]>,
+    ) -> Result<(), OptimError> {
+        self.swarm.initialise(objective, self.params.init, initial)
+    }
+
+    fn step<O: Objective + ?Sized>(&mut self, objective: &mut O) -> Result<(), OptimError> {
+        let t = self.swarm.begin_step()?;
+        let e1 = self.params.energy.value(t, self.swarm.settings.iterations);
+        self.recompute_sum();
+        for i in 0..self.swarm.n() {
+            let e = e1 * (2.0 * self.swarm.rng.unit() - 1.0);
+            let abs_e = libm::fabsf(e);
+            if abs_e >= 1.0 {
+                if self.params.mutation == Mutation::ReplacesExploration {
+                    self.mutate_rabbit();
+                } else {
+                    self.explore(i);
+                }
+                let cost = self.evaluate_y(objective);
+                self.move_hawk_to_y(i, cost);
+                continue;
+            }
+            let r = self.swarm.rng.unit();
+            match (r >= 0.5, abs_e >= 0.5) {
+                (true, false) => {
+                    // Hard besiege.
+                    let sw = &self.swarm;
+                    for ((y, rb), x) in self
+                        .y
+                        .iter_mut()
+                        .zip(sw.tracker.best())
+                        .zip(sw.pop.position(i))
+                    {
+                        *y = rb - e * libm::fabsf(rb - x);
+                    }
+                    let cost = self.evaluate_y(objective);
+                    self.move_hawk_to_y(i, cost);
+                }
+                (true, true) => {
+                    // Soft besiege.
+                    let j = 2.0 * (1.0 - self.swarm.rng.unit());
+                    let sw = &self.swarm;
+                    for ((y, rb), x) in self
+                        .y
+                        .iter_mut()
+                        .zip(sw.tracker.best())
+                        .zip(sw.pop.position(i))
+                    {
+                        *y = (rb - x) - e * libm::fabsf(j * rb - x);
+                    }
+                    let cost = self.evaluate_y(objective);
+                    self.move_hawk_to_y(i, cost);
+                }
+                (false, true) => self.dive(objective, i, e, false),
+                (false, false) => self.dive(objective, i, e, true),
+            }
+        }
+        if self.params.mutation == Mutation::AfterUpdates {
+            // The tracker keeps the mutant as the new rabbit only if it is better.
+            self.mutate_rabbit();
+            self.evaluate_y(objective);
+        }
+        Ok(())
+    }
+
+    swarm_accessors!();
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::optim::Stop;
+
+    fn shifted_sphere(x: &[f32]) -> f32 {
+        x.iter().map(|v| (v - 37.5) * (v - 37.5)).sum()
+    }
+
+    fn run(params: HhoParams, seed: u64) -> (f32, u64) {
+        let b = Bounds::<10>::uniform(10, -100.0, 100.0).unwrap();
+        let s = Settings {
+            population: 20,
+            iterations: 100,
+            seed,
+        };
+        let mut h = Hho::<20, 10>::new(s, &b, params).unwrap();
+        let r = h
+            .run(&mut shifted_sphere, None, &Stop::default(), &mut [])
+            .unwrap();
+        (r.best_cost, r.evaluations)
+    }
+
+    #[test]
+    fn deterministic_per_seed() {
+        assert_eq!(run(HhoParams::tclhho(), 5), run(HhoParams::tclhho(), 5));
+        assert_ne!(run(HhoParams::tclhho(), 5), run(HhoParams::tclhho(), 6));
+    }
+
+    #[test]
+    fn evaluations_are_counted_exactly() {
+        let b = Bounds::<4>::uniform(4, -5.0, 5.0).unwrap();
+        for params in [
+            HhoParams::hho(),
+            HhoParams::tclhho(),
+            HhoParams::tclhho_literal(),
+        ] {
+            let s = Settings {
+                population: 10,
+                iterations: 30,
+                seed: 3,
+            };
+            let mut h = Hho::<10, 4>::new(s, &b, params).unwrap();
+            let mut calls = 0u64;
+            let mut obj = |x: &[f32]| {
+                calls += 1;
+                x.iter().map(|v| v * v).sum::<f32>()
+            };
+            let r = h.run(&mut obj, None, &Stop::default(), &mut []).unwrap();
+            assert_eq!(r.evaluations, calls);
+            assert!(r.evaluations > 10 + 10 * 30);
+        }
+    }
+
+    #[test]
+    fn best_so_far_never_worsens_and_matches_its_position() {
+        let b = Bounds::<5>::uniform(5, -10.0, 10.0).unwrap();
+        let s = Settings {
+            population: 12,
+            iterations: 40,
+            seed: 8,
+        };
+        let mut h = Hho::<12, 5>::new(s, &b, HhoParams::tclhho()).unwrap();
+        let mut obj = |x: &[f32]| x.iter().map(|v| (v - 1.0).abs()).sum::<f32>();
+        let mut hist = [0.0f32; 40];
+        h.run(&mut obj, None, &Stop::default(), &mut hist).unwrap();
+        assert!(hist.windows(2).all(|w| w[1] <= w[0]));
+        assert_eq!(obj(h.best_position()), h.best_cost());
+    }
+
+    #[test]
+    fn invalid_params() {
+        let b = Bounds::<2>::uniform(2, -1.0, 1.0).unwrap();
+        let s = Settings {
+            population: 5,
+            iterations: 5,
+            seed: 0,
+        };
+        let mut p = HhoParams::tclhho();
+        p.levy_scale = f32::NAN;
+        assert!(Hho::<5, 2>::new(s, &b, p).is_err());
+        let mut p = HhoParams::tclhho();
+        p.init = Initialisation::Tent { u: 1.0 };
+        assert!(Hho::<5, 2>::new(s, &b, p).is_err());
+        let s1 = Settings {
+            population: 1,
+            iterations: 5,
+            seed: 0,
+        };
+        assert_eq!(
+            Hho::<5, 2>::new(s1, &b, HhoParams::hho()).err(),
+            Some(OptimError::PopulationOutOfRange)
+        );
+    }
+
+    #[test]
+    fn mutation_is_kept_only_if_better() {
+        // With a mutation after the updates, the rabbit's cost never increases: checked by the
+        // history in `best_so_far_never_worsens...`; here check the mutation draws change the
+        // result relative to HHO with the same other options.
+        let mut with = HhoParams::hho();
+        with.mutation = Mutation::AfterUpdates;
+        let (a, ea) = run(with, 2);
+        let (b, eb) = run(HhoParams::hho(), 2);
+        assert_ne!(a, b);
+        assert!(ea > eb - 200);
+    }
+}

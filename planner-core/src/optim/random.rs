@@ -1,0 +1,227 @@
+//! The one source of randomness: a seeded `Xoshiro128PlusPlus` and the draws built on it.
+//!
+//! `Xoshiro128PlusPlus` works on 32-bit words, which suits the Cortex-M4; it is seeded with
+//! `SeedableRng::seed_from_u64` (SplitMix64), so a `u64` seed fully determines a run. Every
+//! draw below uses only integer operations and `libm`, so sequences are bit-identical on
+//! x86_64 and thumbv7em.
+//!
+//! # Draws
+//! - [`Random::unit`]: `[0, 1)` from the 24 high bits of one word (every value exact in `f32`);
+//! - [`Random::open_unit`]: `(0, 1)`, the 23 high bits with the lowest bit forced to one;
+//! - [`Random::index`]: below `n` by Lemire's multiply-shift of one word (bias below `n / 2^32`);
+//! - [`Random::normal`]: Marsaglia's polar method, two `unit` draws per attempt, attempts
+//!   repeat until `0 < s < 1` (about 1.27 attempts on average); the second normal of the pair is
+//!   discarded so that each call's draw count depends only on its own attempts;
+//! - [`Random::cauchy`]: `tan(pi (u - 1/2))` with `u` from `open_unit`;
+//! - [`Random::levy`]: Mantegna's algorithm, `beta = 1.5`: `(u, v)` one polar pair,
+//!   `u` scaled by `sigma`, `step = u / |v|^(1/beta)` (computed as `cbrt(v^2)`).
+//!
+//! # Order of draws per algorithm (one generator per optimizer, reset by `init`)
+//! - **Initialisation**: uniform: member-major, dimension-minor, one `unit` per coordinate.
+//!   Tent: dimension-major: one `open_unit` for `z_1`, then per further member one `unit`
+//!   (the perturbation, see [`crate::optim::tent`]). Opposition: uniform draws only.
+//! - **HHO / TCLHHO**, per iteration, per hawk in index order: `E0`; if `|E| >= 1`: `q`, the
+//!   random hawk's index, then `r1, r2` (`q < 0.5`) or `r3, r4` (literal TCLHHO variant: the
+//!   mutation draws instead of all of these); else `r`, then `J` for the three moves that use it;
+//!   a failed dive `Y` then draws per dimension `S_j` and one Levy step. After all hawks
+//!   (TCLHHO): `P`, then per dimension a Cauchy draw (`P >= 0.5`) or `K1, K2` (opposition).
+//! - **GWO / TGWO / IGWO**, per wolf, per dimension, per leader (alpha, beta, delta): `r1, r2`
+//!   (the same with or without the greedy option).
+//! - **SSA**: `R2`; per producer in rank order one `alpha` (`R2 < ST`) or one normal `Q`;
+//!   per scrounger in rank order: worse half one normal `Q`, better half one sign per
+//!   dimension; scouts: partial Fisher-Yates (one `index` per scout), then per scout either one
+//!   normal per dimension or one `unit` for `K`.
+//! - **SSA-GWO**: the GWO draws, then the SSA draws, each iteration; the PSO-style variant
+//!   ([`crate::optim::ssa_gwo::SsaGwoPso`]) draws the PSO draws instead of the SSA ones.
+//! - **PSO**: per particle, per dimension: `r1, r2`.
+//! - **GA**: per offspring pair: two tournaments (two `index` each), the crossover test, the
+//!   blend weight, then per gene of each child the mutation test and, if mutated, one normal.
+
+use rand_core::{Rng, SeedableRng};
+use rand_xoshiro::Xoshiro128PlusPlus;
+
+/// Mantegna's `sigma_u` for `beta = 1.5`:
+/// `(Gamma(1 + b) sin(pi b / 2) / (Gamma((1 + b) / 2) b 2^((b - 1) / 2)))^(1 / b)`.
+pub const LEVY_SIGMA_1_5: f32 = 0.696_574_2;
+
+/// The Levy stability index used by HHO (Mantegna's method).
+pub const LEVY_BETA: f32 = 1.5;
+
+/// A seeded generator and the draws the optimizers need.
+#[derive(Debug, Clone)]
+pub struct Random {
+    /// `None` until seeded, so that a generator can sit in a `const` initialiser; an unseeded
+    /// generator draws as if seeded with 0.
+    rng: Option<Xoshiro128PlusPlus>,
+}
+
+impl Random {
+    /// A generator fully determined by `seed`.
+    pub fn new(seed: u64) -> Self {
+        Self {
+            rng: Some(Xoshiro128PlusPlus::seed_from_u64(seed)),
+        }
+    }
+
+    /// A generator for `const` initialisers; draws as if seeded with 0 until reseeded.
+    pub const fn unseeded() -> Self {
+        Self { rng: None }
+    }
+
+    /// Restarts the sequence of `seed`.
+    pub fn reseed(&mut self, seed: u64) {
+        self.rng = Some(Xoshiro128PlusPlus::seed_from_u64(seed));
+    }
+
+    /// The next raw 32-bit word.
+    #[inline]
+    pub fn next_u32(&mut self) -> u32 {
+        match &mut self.rng {
+            Some(rng) => rng.next_u32(),
+            None => self
+                .rng
+                .insert(Xoshiro128PlusPlus::seed_from_u64(0))
+                .next_u32(),
+        }
+    }
+
+    /// Uniform in `[0, 1)`.
+    #[inline]
+    pub fn unit(&mut self) -> f32 {
+        (self.next_u32() >> 8) as f32 * (1.0 / 16_777_216.0)
+    }
+
+    /// Uniform in the open interval `(0, 1)`: never exactly 0 or 1.
+    #[inline]
+    pub fn open_unit(&mut self) -> f32 {
+        ((self.next_u32() >> 8) | 1) as f32 * (1.0 / 16_777_216.0)
+    }
+
+    /// Uniform in `[lo, hi]` (`hi` only through rounding).
+    #[inline]
+    pub fn range(&mut self, lo: f32, hi: f32) -> f32 {
+        let v = lo + (hi - lo) * self.unit();
+        v.min(hi)
+    }
+
+    /// Uniform index in `0..n` (0 if `n == 0`).
+    #[inline]
+    pub fn index(&mut self, n: usize) -> usize {
+        ((u64::from(self.next_u32()) * n as u64) >> 32) as usize
+    }
+
+    /// Standard normal, Marsaglia's polar method (the pair's second value is discarded).
+    pub fn normal(&mut self) -> f32 {
+        self.normal_pair().0
+    }
+
+    /// Two independent standard normals from one accepted Marsaglia polar attempt.
+    pub fn normal_pair(&mut self) -> (f32, f32) {
+        loop {
+            let u = 2.0 * self.unit() - 1.0;
+            let v = 2.0 * self.unit() - 1.0;
+            let s = u * u + v * v;
+            if s > 0.0 && s < 1.0 {
+                let m = super::sqrtf(-2.0 * libm::logf(s) / s);
+                return (u * m, v * m);
+            }
+        }
+    }
+
+    /// Standard Cauchy draw `tan(pi (u - 1/2))`.
+    pub fn cauchy(&mut self) -> f32 {
+        libm::tanf(core::f32::consts::PI * (self.open_unit() - 0.5))
+    }
+
+    /// One Mantegna Levy step with `beta = 1.5`, unscaled (HHO multiplies it by 0.01).
+    pub fn levy(&mut self) -> f32 {
+        // Both normals from one polar attempt: half the logarithms of two separate draws.
+        let (u, v) = self.normal_pair();
+        let u = u * LEVY_SIGMA_1_5;
+        // |v|^(1/1.5) = cbrt(v^2): libm's powf costs several times cbrtf. A zero `v`
+        // (probability ~0) would give an infinite step; keep it finite anyway.
+        let denom = libm::cbrtf(v * v).max(f32::MIN_POSITIVE);
+        u / denom
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn unit_ranges() {
+        let mut r = Random::new(1);
+        for _ in 0..100_000 {
+            let u = r.unit();
+            assert!((0.0..1.0).contains(&u));
+            let o = r.open_unit();
+            assert!(o > 0.0 && o < 1.0);
+            assert!(r.index(7) < 7);
+            let x = r.range(-2.0, 3.0);
+            assert!((-2.0..=3.0).contains(&x));
+        }
+        assert_eq!(r.index(0), 0);
+    }
+
+    #[test]
+    fn same_seed_same_sequence() {
+        let (mut a, mut b) = (Random::new(42), Random::new(42));
+        for _ in 0..1000 {
+            assert_eq!(a.normal().to_bits(), b.normal().to_bits());
+            assert_eq!(a.levy().to_bits(), b.levy().to_bits());
+        }
+    }
+
+    #[test]
+    fn normal_moments() {
+        let mut r = Random::new(9);
+        let n = 200_000;
+        let (mut s, mut s2) = (0.0f64, 0.0f64);
+        for _ in 0..n {
+            let x = f64::from(r.normal());
+            s += x;
+            s2 += x * x;
+        }
+        let mean = s / f64::from(n);
+        let var = s2 / f64::from(n) - mean * mean;
+        // Standard errors: 1/sqrt(n) = 0.0022 for the mean, sqrt(2/n) = 0.0032 for the variance.
+        assert!(mean.abs() < 0.01, "{mean}");
+        assert!((var - 1.0).abs() < 0.015, "{var}");
+    }
+
+    #[test]
+    fn cauchy_quartiles() {
+        // The standard Cauchy has quartiles -1 and 1: about half of the draws lie in [-1, 1].
+        let mut r = Random::new(5);
+        let n = 100_000;
+        let inside = (0..n).filter(|_| r.cauchy().abs() <= 1.0).count();
+        let frac = inside as f64 / f64::from(n);
+        assert!((frac - 0.5).abs() < 0.01, "{frac}");
+    }
+
+    #[test]
+    fn levy_steps_have_the_mantegna_scale() {
+        // sigma from Mantegna's formula, in f64 with libm's gamma.
+        let b = 1.5f64;
+        let ratio = libm::tgamma(1.0 + b) * libm::sin(core::f64::consts::PI * b / 2.0)
+            / (libm::tgamma((1.0 + b) / 2.0) * b * libm::pow(2.0, (b - 1.0) / 2.0));
+        let sigma = libm::pow(ratio, 1.0 / b);
+        assert!((sigma - f64::from(LEVY_SIGMA_1_5)).abs() < 1e-6, "{sigma}");
+        // The step u/|v|^(2/3) is symmetric with median |step| equal to sigma times the median
+        // of |N1|/|N2|^(2/3); that median is a fixed number (0.905 by a 2*10^6-sample f64
+        // simulation), so the sample median of |step| checks the scale.
+        let mut r = Random::new(11);
+        let mut v: [f32; 20001] = [0.0; 20001];
+        for x in v.iter_mut() {
+            *x = r.levy().abs();
+        }
+        v.sort_unstable_by(f32::total_cmp);
+        let median = f64::from(v[10000]);
+        let expected = sigma * 0.905;
+        assert!(
+            (median / expected - 1.0).abs() < 0.03,
+            "{median} vs {expected}"
+        );
+    }
+}

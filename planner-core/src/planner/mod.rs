@@ -1,0 +1,534 @@
+//! One planning API over every optimizer and encoding (the papers' planners), plus seed
+//! 000's ant colony baseline in [`aco`].
+//!
+//! [`plan`] checks the endpoints, detects unreachable goals exactly (connectivity, before any
+//! optimizer runs), builds the encoding, runs the optimizer, decodes its best point, applies
+//! the patent's node pruning (collinear removal, then line-of-sight shortcutting) and
+//! validates the result. It returns a path only if it is valid under the collision rule (or
+//! under seed 003's looser rule when that reproduction option was asked for).
+//!
+//! ```
+//! use planner_core::{grid::{words_for, Grid}, geometry::Cell, path::Path, search::SearchNode};
+//! use planner_core::planner::{plan, PlanParams, Workspace};
+//! use planner_core::optim::any::AlgorithmKind;
+//!
+//! let grid: Grid<{ words_for(12, 6) }> = Grid::parse_rows(
+//!     b"............\n....@@@@....\n....@@@@....\n............\n..@@@@@@@@..\n............\n")?;
+//! let mut nodes = [SearchNode::EMPTY; 72];
+//! let mut guide: Path<128> = Path::new();
+//! let mut visited = [0u32; 4];
+//! let mut ws = Workspace { nodes: &mut nodes, guide: &mut guide, visited: &mut visited };
+//! let params = PlanParams { iterations: 60, ..PlanParams::new(AlgorithmKind::Tclhho) };
+//! let mut path: Path<128> = Path::new();
+//! let report = plan::<30, 16>(grid.view(), Cell::new(0, 2), Cell::new(11, 3), &params, &mut ws, &mut path, &mut [], &mut || false)?;
+//! assert!(report.length <= report.initial_cost);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+
+pub mod aco;
+#[cfg(feature = "alloc")]
+pub mod owned;
+
+use crate::encoding::Encoding;
+use crate::encoding::column::ColumnEncoding;
+use crate::encoding::corridor::{CorridorEncoding, Station};
+use crate::encoding::walk::{CornerRule, WalkEncoding, validate_walk};
+use crate::error::PlanError;
+use crate::geometry::Cell;
+use crate::grid::GridRef;
+use crate::optim::any::{AlgorithmKind, AnyOptimizer};
+use crate::optim::random::Random;
+use crate::optim::{Bounds, OptimError, Optimizer, Settings};
+use crate::path::{self, PathView};
+use crate::search::{SearchNode, astar, check_endpoints};
+
+/// Every planner of the crate, by its command-line name.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub enum PlannerKind {
+    /// A*, octile costs, no corner cutting (`astar`).
+    AStar,
+    /// Theta*, any-angle (`theta`).
+    Theta,
+    /// Seed 000's ant colony (`aco`).
+    Aco,
+    /// A swarm optimizer over an encoding ([`plan`]).
+    Swarm(AlgorithmKind),
+}
+
+impl PlannerKind {
+    /// Every planner, in a fixed order (also their wire codes' order).
+    pub const ALL: [PlannerKind; 12] = [
+        PlannerKind::AStar,
+        PlannerKind::Theta,
+        PlannerKind::Aco,
+        PlannerKind::Swarm(AlgorithmKind::Tclhho),
+        PlannerKind::Swarm(AlgorithmKind::Igwo),
+        PlannerKind::Swarm(AlgorithmKind::Hho),
+        PlannerKind::Swarm(AlgorithmKind::Gwo),
+        PlannerKind::Swarm(AlgorithmKind::Tgwo),
+        PlannerKind::Swarm(AlgorithmKind::Pso),
+        PlannerKind::Swarm(AlgorithmKind::Ga),
+        PlannerKind::Swarm(AlgorithmKind::Ssa),
+        PlannerKind::Swarm(AlgorithmKind::SsaGwo),
+    ];
+
+    /// The command-line name (`astar`, `theta`, `aco`, `tclhho`, ...).
+    pub fn name(self) -> &'static str {
+        match self {
+            PlannerKind::AStar => "astar",
+            PlannerKind::Theta => "theta",
+            PlannerKind::Aco => "aco",
+            PlannerKind::Swarm(a) => a.name(),
+        }
+    }
+
+    /// Whether the planner uses random numbers (the seed matters).
+    pub fn is_stochastic(self) -> bool {
+        !matches!(self, PlannerKind::AStar | PlannerKind::Theta)
+    }
+}
+
+impl core::str::FromStr for PlannerKind {
+    type Err = PlanError;
+
+    /// Parses a name; an unknown one is [`PlanError::InvalidParameters`].
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        PlannerKind::ALL
+            .iter()
+            .copied()
+            .find(|k| k.name().eq_ignore_ascii_case(s))
+            .ok_or(PlanError::InvalidParameters)
+    }
+}
+
+/// How a decision vector becomes a path (see [`crate::encoding`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub enum EncodingKind {
+    /// The general encoding for any map (waypoints across an exact guide route).
+    #[default]
+    Corridor,
+    /// Seed 000's column encoding (x-monotone paths only; reproduction mode).
+    Column,
+    /// Seed 003's 8-connected walk (reproduction mode).
+    Walk,
+}
+
+impl EncodingKind {
+    /// `corridor`, `column` or `walk`.
+    pub const fn name(self) -> &'static str {
+        match self {
+            EncodingKind::Corridor => "corridor",
+            EncodingKind::Column => "column",
+            EncodingKind::Walk => "walk",
+        }
+    }
+}
+
+/// Where the initial population comes from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub enum InitKind {
+    /// The optimizer's own initialisation (uniform, or Tent for TCLHHO and TGWO).
+    #[default]
+    Optimizer,
+    /// The patent's square-neighbourhood diffusion: rings of growing Chebyshev radius around
+    /// the start; member `j` of a column-encoded path is a free cell of ring `j` in its
+    /// column. Column encoding only.
+    Diffusion,
+}
+
+/// Everything a plan needs besides the map and the endpoints.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct PlanParams {
+    /// The optimizer.
+    pub algorithm: AlgorithmKind,
+    /// The encoding.
+    pub encoding: EncodingKind,
+    /// Population size (the papers use 30).
+    pub population: usize,
+    /// Iteration horizon `T` (the papers use 500).
+    pub iterations: u32,
+    /// Stop after this many iterations without a relative improvement of
+    /// [`STAGNATION_TOL`] (`None`: run to `T`).
+    pub stagnation: Option<u32>,
+    /// The seed.
+    pub seed: u64,
+    /// Initial population.
+    pub init: InitKind,
+    /// Apply the patent's node pruning to the result.
+    pub prune: bool,
+    /// Corner rule of the walk encoding (the other encodings always use SPEC's rule).
+    pub corner_rule: CornerRule,
+    /// Corridor encoding: guide length between stations (cells).
+    pub corridor_spacing: f32,
+    /// Corridor encoding: lateral reach of a waypoint (cells).
+    pub corridor_radius: f32,
+    /// Walk encoding: maximum steps (0: the capacity `D`).
+    pub walk_steps: usize,
+    /// Walk encoding: greediness of the step roulette.
+    pub walk_beta: f32,
+}
+
+impl PlanParams {
+    /// The papers' settings (population 30, 500 iterations) on the general encoding.
+    pub const fn new(algorithm: AlgorithmKind) -> Self {
+        PlanParams {
+            algorithm,
+            encoding: EncodingKind::Corridor,
+            population: 30,
+            iterations: 500,
+            stagnation: None,
+            seed: 0,
+            init: InitKind::Optimizer,
+            prune: true,
+            corner_rule: CornerRule::Strict,
+            corridor_spacing: 8.0,
+            corridor_radius: 5.0,
+            walk_steps: 0,
+            walk_beta: 2.0,
+        }
+    }
+}
+
+/// Why the optimizer stopped.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub enum PlanStop {
+    /// The iteration horizon was reached.
+    Iterations,
+    /// No improvement for the configured number of iterations.
+    Stagnation,
+    /// The caller's interrupt hook asked to stop (deadline, cancellation): the best path
+    /// so far is returned.
+    Interrupted,
+    /// Nothing to optimise (start equals goal, or the guide has no interior station).
+    Trivial,
+}
+
+impl PlanStop {
+    /// A short lower-case name.
+    pub const fn name(self) -> &'static str {
+        match self {
+            PlanStop::Iterations => "iterations",
+            PlanStop::Stagnation => "stagnation",
+            PlanStop::Interrupted => "interrupted",
+            PlanStop::Trivial => "trivial",
+        }
+    }
+}
+
+/// What [`plan`] reports besides the path.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct PlanReport {
+    /// Length of the returned path.
+    pub length: f32,
+    /// Direction changes of the returned path.
+    pub turns: usize,
+    /// The optimizer's best cost after initialisation (before any iteration).
+    pub initial_cost: f32,
+    /// The optimizer's final best cost (the decoded path before pruning).
+    pub final_cost: f32,
+    /// Objective evaluations, exactly.
+    pub evaluations: u64,
+    /// Iterations done.
+    pub iterations: u32,
+    /// First iteration whose best equals the final best (seed 000's `I`).
+    pub best_iteration: u32,
+    /// Decision variables.
+    pub dimension: usize,
+    /// Why the optimizer stopped.
+    pub stop: PlanStop,
+    /// Entries written to the history buffer.
+    pub history_len: usize,
+}
+
+/// Caller-owned scratch of a plan; no allocation happens inside [`plan`].
+pub struct Workspace<'a> {
+    /// One search node per map cell (guide route, reachability).
+    pub nodes: &'a mut [SearchNode],
+    /// The guide route of the corridor encoding (up to its capacity in waypoints).
+    pub guide: &'a mut PathView,
+    /// A bitset of `cells / 32 + 1` words (walk encoding).
+    pub visited: &'a mut [u32],
+}
+
+/// Relative improvement below which an iteration counts as stagnant.
+pub const STAGNATION_TOL: f32 = 1e-4;
+
+fn optim_error(e: OptimError) -> PlanError {
+    match e {
+        OptimError::PopulationOutOfRange | OptimError::DimensionOutOfRange => {
+            PlanError::CapacityExceeded
+        }
+        _ => PlanError::InvalidParameters,
+    }
+}
+
+/// Plans `start -> goal` with an optimizer of capacity `N` members and `D` dimensions.
+///
+/// `history` receives the best cost per iteration while it has room; `interrupt` is called
+/// once per iteration and returns `true` to stop early with the best path so far (deadline
+/// or cancellation).
+///
+/// Errors: the endpoint checks, [`PlanError::NoValidPath`] when the goal is unreachable
+/// (exact, before optimising), [`PlanError::InvalidParameters`] for NaN or out-of-range
+/// parameters and unsupported combinations, [`PlanError::CapacityExceeded`] when a buffer or
+/// `N`/`D` is too small, [`PlanError::BudgetExhausted`] when a reproduction encoding ends
+/// with an infeasible best (the papers' "—").
+#[allow(clippy::too_many_arguments)]
+pub fn plan<const N: usize, const D: usize>(
+    grid: GridRef<'_>,
+    start: Cell,
+    goal: Cell,
+    params: &PlanParams,
+    ws: &mut Workspace<'_>,
+    out: &mut PathView,
+    history: &mut [f32],
+    interrupt: &mut dyn FnMut() -> bool,
+) -> Result<PlanReport, PlanError> {
+    check_endpoints(grid, start, goal)?;
+    check_params(params)?;
+    // The exact reference route doubles as the reachability test: A* exhausts the start's
+    // component before it reports NoValidPath.
+    astar::plan(grid, start, goal, ws.nodes, ws.guide)?;
+    match params.encoding {
+        EncodingKind::Corridor => {
+            if ws.guide.len() <= 2 {
+                return trivial(grid, ws.guide, out);
+            }
+            // Stations include the two fixed ends, so at most D - 2 of them move.
+            let mut stations = [Station::default(); D];
+            let mut enc = CorridorEncoding::build(
+                grid,
+                ws.guide,
+                params.corridor_spacing,
+                params.corridor_radius,
+                D,
+                &mut stations,
+            )?;
+            if enc.dim() == 0 {
+                return trivial(grid, ws.guide, out);
+            }
+            optimise::<N, D, _>(
+                grid, start, goal, params, &mut enc, None, out, history, interrupt,
+            )
+        }
+        EncodingKind::Column => {
+            let mut enc = ColumnEncoding::new(grid, start, goal)?;
+            if enc.dim() > D {
+                return Err(PlanError::CapacityExceeded);
+            }
+            optimise::<N, D, _>(
+                grid, start, goal, params, &mut enc, None, out, history, interrupt,
+            )
+        }
+        EncodingKind::Walk => {
+            let steps = if params.walk_steps == 0 {
+                D
+            } else {
+                params.walk_steps
+            };
+            if steps > D {
+                return Err(PlanError::CapacityExceeded);
+            }
+            if start == goal {
+                return trivial(grid, ws.guide, out);
+            }
+            let rule = params.corner_rule;
+            let mut enc =
+                WalkEncoding::new(grid, start, goal, steps, rule, params.walk_beta, ws.visited)?;
+            optimise::<N, D, _>(
+                grid,
+                start,
+                goal,
+                params,
+                &mut enc,
+                Some(rule),
+                out,
+                history,
+                interrupt,
+            )
+        }
+    }
+}
+
+fn check_params(p: &PlanParams) -> Result<(), PlanError> {
+    let finite_pos = |v: f32| v.is_finite() && v > 0.0;
+    if p.population == 0
+        || p.iterations == 0
+        || p.stagnation == Some(0)
+        || !finite_pos(p.corridor_spacing)
+        || !finite_pos(p.corridor_radius)
+        || !(p.walk_beta.is_finite() && p.walk_beta >= 0.0)
+    {
+        return Err(PlanError::InvalidParameters);
+    }
+    if p.init == InitKind::Diffusion && p.encoding != EncodingKind::Column {
+        return Err(PlanError::InvalidParameters);
+    }
+    Ok(())
+}
+
+/// The guide itself (start equals goal, or goal adjacent): nothing to optimise.
+fn trivial(
+    grid: GridRef<'_>,
+    guide: &PathView,
+    out: &mut PathView,
+) -> Result<PlanReport, PlanError> {
+    out.clear();
+    for p in guide.iter() {
+        out.push(*p).map_err(|_| PlanError::CapacityExceeded)?;
+    }
+    let length = path::length(out);
+    let _ = grid;
+    Ok(PlanReport {
+        length,
+        turns: path::turns(out),
+        initial_cost: length,
+        final_cost: length,
+        evaluations: 0,
+        iterations: 0,
+        best_iteration: 0,
+        dimension: 0,
+        stop: PlanStop::Trivial,
+        history_len: 0,
+    })
+}
+
+#[allow(clippy::too_many_arguments)]
+fn optimise<const N: usize, const D: usize, E: Encoding>(
+    grid: GridRef<'_>,
+    start: Cell,
+    goal: Cell,
+    params: &PlanParams,
+    enc: &mut E,
+    walk_rule: Option<CornerRule>,
+    out: &mut PathView,
+    history: &mut [f32],
+    interrupt: &mut dyn FnMut() -> bool,
+) -> Result<PlanReport, PlanError> {
+    let dim = enc.dim();
+    if dim == 0 || dim > D {
+        return Err(PlanError::CapacityExceeded);
+    }
+    let mut lower = [0.0f32; D];
+    let mut upper = [0.0f32; D];
+    for i in 0..dim {
+        (lower[i], upper[i]) = enc.bounds(i);
+    }
+    let bounds = Bounds::<D>::from_slices(&lower[..dim], &upper[..dim]).map_err(optim_error)?;
+    let settings = Settings {
+        population: params.population,
+        iterations: params.iterations,
+        seed: params.seed,
+    };
+    let mut opt =
+        AnyOptimizer::<N, D>::new(params.algorithm, settings, &bounds).map_err(optim_error)?;
+    let mut objective = |x: &[f32]| enc.cost(x);
+    match params.init {
+        InitKind::Optimizer => opt.init(&mut objective, None),
+        InitKind::Diffusion => {
+            let mut rows = [[0.0f32; D]; N];
+            let count = params.population.min(N);
+            diffusion_rows(grid, start, &mut rows[..count], dim, params.seed);
+            let mut refs: [&[f32]; N] = [&[]; N];
+            for (r, row) in refs.iter_mut().zip(rows.iter()).take(count) {
+                *r = &row[..dim];
+            }
+            opt.init(&mut objective, Some(&refs[..count]))
+        }
+    }
+    .map_err(optim_error)?;
+    let initial_cost = opt.best_cost();
+    let mut written = 0;
+    // Stagnation counts iterations without a *relative* improvement of STAGNATION_TOL: the
+    // Cauchy and Levy moves keep shaving off micro-units long after the path has settled.
+    let (mut settled_cost, mut settled_at) = (initial_cost, 0u32);
+    let stop = loop {
+        if opt.iteration() >= params.iterations {
+            break PlanStop::Iterations;
+        }
+        if opt.best_cost() < settled_cost * (1.0 - STAGNATION_TOL) {
+            (settled_cost, settled_at) = (opt.best_cost(), opt.iteration());
+        }
+        if params
+            .stagnation
+            .is_some_and(|k| opt.iteration() - settled_at >= k)
+        {
+            break PlanStop::Stagnation;
+        }
+        if interrupt() {
+            break PlanStop::Interrupted;
+        }
+        opt.step(&mut objective).map_err(optim_error)?;
+        if let Some(slot) = history.get_mut(written) {
+            *slot = opt.best_cost();
+            written += 1;
+        }
+    };
+    let final_cost = opt.best_cost();
+    enc.decode(opt.best_position(), out)?;
+    let valid = match walk_rule {
+        Some(rule) => {
+            validate_walk(grid, out, rule)
+                && out.first() == Some(&start.center())
+                && out.last() == Some(&goal.center())
+        }
+        None => path::validate(grid, out, start, goal).is_ok(),
+    };
+    if !valid {
+        // Decoders only emit valid paths; refuse rather than hand out an invalid one.
+        return Err(PlanError::NoValidPath);
+    }
+    if params.prune && walk_rule != Some(CornerRule::Loose) {
+        path::prune_collinear(out);
+        path::shortcut(grid, out);
+    }
+    Ok(PlanReport {
+        length: path::length(out),
+        turns: path::turns(out),
+        initial_cost,
+        final_cost,
+        evaluations: opt.evaluations(),
+        iterations: opt.iteration(),
+        best_iteration: opt.best_iteration(),
+        dimension: dim,
+        stop,
+        history_len: written,
+    })
+}
+
+/// The patent's square-neighbourhood diffusion for the column encoding: row `j` is a free
+/// row of column `start.x + j` within Chebyshev radius `j` of the start (the ring's edge in
+/// that column), drawn uniformly; a column with none keeps the start row.
+fn diffusion_rows<const D: usize>(
+    grid: GridRef<'_>,
+    start: Cell,
+    rows: &mut [[f32; D]],
+    dim: usize,
+    seed: u64,
+) {
+    let mut rng = Random::new(seed ^ 0xD1FF_0510);
+    for row in rows.iter_mut() {
+        for (j, v) in row.iter_mut().enumerate().take(dim) {
+            let x = start.x as isize + j as isize;
+            let lo = (start.y as isize - j as isize).max(0);
+            let hi = (start.y as isize + j as isize).min(grid.height() as isize - 1);
+            let free = (lo..=hi).filter(|&y| !grid.is_blocked(x, y)).count();
+            *v = start.y as f32;
+            if free > 0 {
+                let pick = rng.index(free);
+                if let Some(y) = (lo..=hi).filter(|&y| !grid.is_blocked(x, y)).nth(pick) {
+                    *v = y as f32;
+                }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests;

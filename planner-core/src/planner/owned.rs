@@ -1,0 +1,180 @@
+//! Heap-allocated scratch for hosts (feature `alloc`): one [`HostPlanner`] serves every
+//! planner of the crate on maps of any size, growing its buffers when a bigger map comes.
+//!
+//! Firmware uses [`plan`](super::plan), [`aco::plan`](super::aco::plan) and the search
+//! functions directly with static buffers; this is the convenience layer for the CLI and the
+//! planner service.
+
+extern crate alloc;
+
+use alloc::boxed::Box;
+use alloc::vec;
+use alloc::vec::Vec;
+
+use super::aco::{self, AcoParams, AcoWorkspace};
+use super::{PlanParams, PlanReport, PlannerKind, Workspace, plan};
+use crate::error::PlanError;
+use crate::geometry::Cell;
+use crate::grid::GridRef;
+use crate::path::{self, Path, PathView};
+use crate::search::{SearchNode, astar, connectivity, theta};
+
+/// Population capacity of host plans.
+pub const HOST_POPULATION: usize = 128;
+/// Dimension capacity of host plans (column encoding: map width).
+pub const HOST_DIMENSION: usize = 128;
+/// Longest guide route, in waypoints.
+pub const GUIDE_CAPACITY: usize = 1 << 16;
+
+/// What any planner reports.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Outcome {
+    /// Path length.
+    pub length: f32,
+    /// Direction changes.
+    pub turns: usize,
+    /// Cells expanded (A*, Theta*).
+    pub expanded: Option<u32>,
+    /// Optimizer figures (swarm planners and ACO).
+    pub report: Option<PlanReport>,
+}
+
+/// Host scratch for every planner; call [`HostPlanner::prepare`] when the map changes.
+pub struct HostPlanner {
+    cells: usize,
+    labels: Vec<u32>,
+    nodes: Vec<SearchNode>,
+    guide: Box<Path<GUIDE_CAPACITY>>,
+    visited: Vec<u32>,
+    tau: Vec<f32>,
+    delta: Vec<f32>,
+    walk: Vec<u32>,
+    best: Vec<u32>,
+}
+
+impl Default for HostPlanner {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl HostPlanner {
+    /// Empty scratch; buffers grow on [`prepare`](Self::prepare).
+    pub fn new() -> Self {
+        HostPlanner {
+            cells: 0,
+            labels: Vec::new(),
+            nodes: Vec::new(),
+            guide: Box::new(Path::new()),
+            visited: Vec::new(),
+            tau: Vec::new(),
+            delta: Vec::new(),
+            walk: Vec::new(),
+            best: Vec::new(),
+        }
+    }
+
+    /// Sizes the buffers for `grid` and labels its components (O(cells)).
+    pub fn prepare(&mut self, grid: GridRef<'_>) -> Result<(), PlanError> {
+        let cells = grid.cells();
+        if self.nodes.len() < cells {
+            self.nodes = vec![SearchNode::EMPTY; cells];
+            self.labels = vec![0; cells];
+            self.visited = vec![0; cells / 32 + 1];
+            self.walk = vec![0; cells];
+            self.best = vec![0; cells];
+            // The ACO buffers are the largest (8 floats a cell twice): made on first use.
+            self.tau.clear();
+            self.delta.clear();
+        }
+        self.cells = cells;
+        connectivity::label(grid, &mut self.labels)?;
+        Ok(())
+    }
+
+    /// The component labels of the prepared map.
+    pub fn labels(&self) -> &[u32] {
+        &self.labels[..self.cells]
+    }
+
+    /// Plans with any planner on the prepared map (`grid` must be the one passed to
+    /// [`prepare`](Self::prepare)). `params` configure swarm planners, `aco` the ant colony.
+    #[allow(clippy::too_many_arguments)]
+    pub fn plan(
+        &mut self,
+        grid: GridRef<'_>,
+        kind: PlannerKind,
+        start: Cell,
+        goal: Cell,
+        params: &PlanParams,
+        aco_params: &AcoParams,
+        out: &mut PathView,
+        history: &mut [f32],
+        interrupt: &mut dyn FnMut() -> bool,
+    ) -> Result<Outcome, PlanError> {
+        if grid.cells() != self.cells {
+            return Err(PlanError::InvalidParameters);
+        }
+        let labels = &self.labels[..self.cells];
+        match kind {
+            PlannerKind::AStar | PlannerKind::Theta => {
+                let run = if kind == PlannerKind::AStar {
+                    astar::plan_with_labels
+                } else {
+                    theta::plan_with_labels
+                };
+                let stats = run(grid, start, goal, Some(labels), &mut self.nodes, out)?;
+                Ok(Outcome {
+                    length: stats.length,
+                    turns: path::turns(out),
+                    expanded: Some(stats.expanded),
+                    report: None,
+                })
+            }
+            PlannerKind::Aco => {
+                if self.tau.len() < 8 * self.cells {
+                    self.tau = vec![0.0; 8 * self.cells];
+                    self.delta = vec![0.0; 8 * self.cells];
+                }
+                let mut ws = AcoWorkspace {
+                    tau: &mut self.tau,
+                    delta: &mut self.delta,
+                    visited: &mut self.visited,
+                    walk: &mut self.walk,
+                    best: &mut self.best,
+                    labels,
+                };
+                let report = aco::plan(grid, start, goal, aco_params, &mut ws, out, history)?;
+                Ok(Outcome {
+                    length: report.length,
+                    turns: report.turns,
+                    expanded: None,
+                    report: Some(report),
+                })
+            }
+            PlannerKind::Swarm(algorithm) => {
+                if !connectivity::connected(grid, labels, start, goal)? {
+                    return Err(PlanError::NoValidPath);
+                }
+                let params = PlanParams {
+                    algorithm,
+                    ..*params
+                };
+                let mut ws = Workspace {
+                    nodes: &mut self.nodes,
+                    guide: &mut *self.guide,
+                    visited: &mut self.visited,
+                };
+                let report = plan::<HOST_POPULATION, HOST_DIMENSION>(
+                    grid, start, goal, &params, &mut ws, out, history, interrupt,
+                )?;
+                Ok(Outcome {
+                    length: report.length,
+                    turns: report.turns,
+                    expanded: None,
+                    report: Some(report),
+                })
+            }
+        }
+    }
+}

@@ -1,0 +1,354 @@
+use super::*;
+use crate::grid::{Grid, words_for};
+use crate::maps::{MapKind, lab_20x20, seed000};
+use crate::path::{Path, validate};
+use crate::search::connectivity;
+use std::{boxed::Box, vec};
+
+type G = Grid<{ words_for(40, 40) }>;
+
+struct Scratch {
+    nodes: [SearchNode; 1600],
+    guide: Path<1600>,
+    visited: [u32; 51],
+}
+
+impl Scratch {
+    fn new() -> Box<Self> {
+        Box::new(Scratch {
+            nodes: [SearchNode::EMPTY; 1600],
+            guide: Path::new(),
+            visited: [0; 51],
+        })
+    }
+
+    fn run(
+        &mut self,
+        g: &G,
+        s: Cell,
+        t: Cell,
+        p: &PlanParams,
+    ) -> Result<(PlanReport, Path<1600>), PlanError> {
+        let mut ws = Workspace {
+            nodes: &mut self.nodes,
+            guide: &mut self.guide,
+            visited: &mut self.visited,
+        };
+        let mut out: Path<1600> = Path::new();
+        let r = plan::<30, 64>(g.view(), s, t, p, &mut ws, &mut out, &mut [], &mut || false)?;
+        Ok((r, out))
+    }
+}
+
+fn quick(algo: AlgorithmKind) -> PlanParams {
+    PlanParams {
+        iterations: 120,
+        ..PlanParams::new(algo)
+    }
+}
+
+#[test]
+fn corridor_paths_are_valid_and_improve_on_initialisation() {
+    let mut sc = Scratch::new();
+    for kind in [MapKind::Sparse, MapKind::Warehouse] {
+        let m = seed000::<{ words_for(40, 40) }>(kind, 40).unwrap();
+        for algo in [
+            AlgorithmKind::Tclhho,
+            AlgorithmKind::Igwo,
+            AlgorithmKind::Hho,
+            AlgorithmKind::Gwo,
+        ] {
+            let (r, p) = sc.run(&m.grid, m.start, m.goal, &quick(algo)).unwrap();
+            assert_eq!(
+                validate(m.grid.view(), &p, m.start, m.goal),
+                Ok(()),
+                "{kind:?} {algo:?}"
+            );
+            assert!(r.final_cost < r.initial_cost, "{kind:?} {algo:?} {r:?}");
+            assert!(r.length <= r.final_cost + 1e-3);
+            assert!(r.evaluations > 0 && r.dimension > 0);
+        }
+    }
+}
+
+#[test]
+fn same_seed_same_path_different_seed_may_differ() {
+    let mut sc = Scratch::new();
+    let m = seed000::<{ words_for(40, 40) }>(MapKind::Sparse, 30).unwrap();
+    let p = PlanParams {
+        seed: 9,
+        ..quick(AlgorithmKind::Tclhho)
+    };
+    let (a, pa) = sc.run(&m.grid, m.start, m.goal, &p).unwrap();
+    let (b, pb) = sc.run(&m.grid, m.start, m.goal, &p).unwrap();
+    assert_eq!(a, b);
+    assert_eq!(pa, pb);
+}
+
+#[test]
+fn column_encoding_reproduces_seed_000() {
+    let mut sc = Scratch::new();
+    let m = seed000::<{ words_for(40, 40) }>(MapKind::Sparse, 10).unwrap();
+    let p = PlanParams {
+        encoding: EncodingKind::Column,
+        ..PlanParams::new(AlgorithmKind::Tclhho)
+    };
+    let (r, path) = sc.run(&m.grid, m.start, m.goal, &p).unwrap();
+    assert_eq!(validate(m.grid.view(), &path, m.start, m.goal), Ok(()));
+    assert!(r.final_cost < 20.0, "{r:?}");
+    let diff = PlanParams {
+        init: InitKind::Diffusion,
+        ..p
+    };
+    let (r2, _) = sc.run(&m.grid, m.start, m.goal, &diff).unwrap();
+    assert!(r2.final_cost < 20.0, "{r2:?}");
+    // Diffusion is only defined for the column encoding.
+    let bad = PlanParams {
+        encoding: EncodingKind::Corridor,
+        ..diff
+    };
+    assert_eq!(
+        sc.run(&m.grid, m.start, m.goal, &bad).unwrap_err(),
+        PlanError::InvalidParameters
+    );
+}
+
+#[test]
+fn walk_encoding_reproduces_seed_003() {
+    let mut sc = Scratch::new();
+    let lab = lab_20x20::<{ words_for(40, 40) }>().unwrap();
+    for rule in [CornerRule::Strict, CornerRule::Loose] {
+        let p = PlanParams {
+            encoding: EncodingKind::Walk,
+            corner_rule: rule,
+            walk_steps: 60,
+            ..PlanParams::new(AlgorithmKind::Igwo)
+        };
+        let (r, path) = sc.run(&lab.grid, lab.start, lab.goal, &p).unwrap();
+        assert!(validate_walk(lab.grid.view(), &path, rule) || rule == CornerRule::Strict);
+        if rule == CornerRule::Strict {
+            assert_eq!(
+                validate(lab.grid.view(), &path, lab.start, lab.goal),
+                Ok(())
+            );
+        }
+        // Octile optimum is at least 19 sqrt 2 = 26.87.
+        assert!(
+            r.final_cost >= 26.8 && r.final_cost < 40.0,
+            "{rule:?} {r:?}"
+        );
+    }
+}
+
+#[test]
+fn every_error_from_bad_input() {
+    let mut sc = Scratch::new();
+    let g = G::parse_rows(b"....@...\n....@...\n....@...\n").unwrap();
+    let p = quick(AlgorithmKind::Tclhho);
+    let c = Cell::new;
+    assert_eq!(
+        sc.run(&g, c(9, 0), c(0, 0), &p).unwrap_err(),
+        PlanError::StartOutsideMap
+    );
+    assert_eq!(
+        sc.run(&g, c(0, 0), c(0, 9), &p).unwrap_err(),
+        PlanError::GoalOutsideMap
+    );
+    assert_eq!(
+        sc.run(&g, c(4, 0), c(0, 0), &p).unwrap_err(),
+        PlanError::StartOccupied
+    );
+    assert_eq!(
+        sc.run(&g, c(0, 0), c(4, 1), &p).unwrap_err(),
+        PlanError::GoalOccupied
+    );
+    assert_eq!(
+        sc.run(&g, c(0, 0), c(7, 2), &p).unwrap_err(),
+        PlanError::NoValidPath
+    );
+    for bad in [
+        PlanParams {
+            corridor_radius: f32::NAN,
+            ..p
+        },
+        PlanParams {
+            corridor_spacing: -1.0,
+            ..p
+        },
+        PlanParams { population: 0, ..p },
+        PlanParams { iterations: 0, ..p },
+        PlanParams {
+            stagnation: Some(0),
+            ..p
+        },
+        PlanParams {
+            walk_beta: f32::INFINITY,
+            ..p
+        },
+    ] {
+        assert_eq!(
+            sc.run(&g, c(0, 0), c(3, 2), &bad).unwrap_err(),
+            PlanError::InvalidParameters
+        );
+    }
+    assert_eq!(
+        sc.run(
+            &g,
+            c(0, 0),
+            c(3, 2),
+            &PlanParams {
+                population: 31,
+                ..p
+            }
+        )
+        .unwrap_err(),
+        PlanError::CapacityExceeded
+    );
+    // Column encoding cannot go right to left.
+    let col = PlanParams {
+        encoding: EncodingKind::Column,
+        ..p
+    };
+    assert_eq!(
+        sc.run(&g, c(3, 2), c(0, 0), &col).unwrap_err(),
+        PlanError::InvalidParameters
+    );
+    // A wall the column encoding cannot pass in 3 rows: infeasible best -> BudgetExhausted.
+    let u = G::parse_rows(b".@...\n.@.@.\n...@.\n").unwrap();
+    let col = PlanParams {
+        encoding: EncodingKind::Column,
+        iterations: 20,
+        ..p
+    };
+    assert_eq!(
+        sc.run(&u, c(0, 0), c(4, 0), &col).unwrap_err(),
+        PlanError::BudgetExhausted
+    );
+    // Small buffers.
+    let mut nodes = [SearchNode::EMPTY; 4];
+    let mut guide: Path<4> = Path::new();
+    let mut visited = [0u32; 1];
+    let mut ws = Workspace {
+        nodes: &mut nodes,
+        guide: &mut guide,
+        visited: &mut visited,
+    };
+    let mut out: Path<4> = Path::new();
+    assert_eq!(
+        plan::<30, 8>(
+            g.view(),
+            c(0, 0),
+            c(3, 2),
+            &p,
+            &mut ws,
+            &mut out,
+            &mut [],
+            &mut || false
+        )
+        .unwrap_err(),
+        PlanError::CapacityExceeded
+    );
+}
+
+#[test]
+fn trivial_queries_and_interrupts() {
+    let mut sc = Scratch::new();
+    let g = G::new(8, 8).unwrap();
+    let (r, p) = sc
+        .run(
+            &g,
+            Cell::new(2, 2),
+            Cell::new(2, 2),
+            &quick(AlgorithmKind::Tclhho),
+        )
+        .unwrap();
+    assert_eq!((r.length, r.stop, p.len()), (0.0, PlanStop::Trivial, 1));
+    let (r, _) = sc
+        .run(
+            &g,
+            Cell::new(2, 2),
+            Cell::new(3, 3),
+            &quick(AlgorithmKind::Tclhho),
+        )
+        .unwrap();
+    assert_eq!(r.stop, PlanStop::Trivial);
+    let m = seed000::<{ words_for(40, 40) }>(MapKind::Warehouse, 30).unwrap();
+    let mut ws = Workspace {
+        nodes: &mut sc.nodes,
+        guide: &mut sc.guide,
+        visited: &mut sc.visited,
+    };
+    let mut out: Path<1600> = Path::new();
+    let mut calls = 0;
+    let mut hist = [0.0f32; 500];
+    let r = plan::<30, 64>(
+        m.grid.view(),
+        m.start,
+        m.goal,
+        &quick(AlgorithmKind::Tclhho),
+        &mut ws,
+        &mut out,
+        &mut hist,
+        &mut || {
+            calls += 1;
+            calls > 5
+        },
+    )
+    .unwrap();
+    assert_eq!(
+        (r.stop, r.iterations, r.history_len),
+        (PlanStop::Interrupted, 5, 5)
+    );
+    assert!(hist[..5].windows(2).all(|w| w[1] <= w[0]));
+    assert_eq!(validate(m.grid.view(), &out, m.start, m.goal), Ok(()));
+}
+
+#[test]
+fn aco_baseline_finds_valid_paths() {
+    let m = seed000::<{ words_for(40, 40) }>(MapKind::Sparse, 30).unwrap();
+    let cells = 900;
+    let mut labels = [0u32; 900];
+    connectivity::label(m.grid.view(), &mut labels).unwrap();
+    let (mut tau, mut delta) = (vec![0.0f32; 8 * cells], vec![0.0f32; 8 * cells]);
+    let (mut walk, mut best) = (vec![0u32; cells], vec![0u32; cells]);
+    let mut visited = [0u32; 29];
+    let mut ws = aco::AcoWorkspace {
+        tau: &mut tau,
+        delta: &mut delta,
+        visited: &mut visited,
+        walk: &mut walk,
+        best: &mut best,
+        labels: &labels,
+    };
+    let mut out: Path<1600> = Path::new();
+    let p = aco::AcoParams {
+        iterations: 40,
+        ..Default::default()
+    };
+    let r = aco::plan(
+        m.grid.view(),
+        m.start,
+        m.goal,
+        &p,
+        &mut ws,
+        &mut out,
+        &mut [],
+    )
+    .unwrap();
+    assert_eq!(validate(m.grid.view(), &out, m.start, m.goal), Ok(()));
+    assert!(r.final_cost >= 29.0 * 2f32.sqrt() - 1e-3);
+    let bad = aco::AcoParams { rho: 0.0, ..p };
+    assert_eq!(
+        aco::plan(
+            m.grid.view(),
+            m.start,
+            m.goal,
+            &bad,
+            &mut ws,
+            &mut out,
+            &mut []
+        )
+        .unwrap_err(),
+        PlanError::InvalidParameters
+    );
+}
