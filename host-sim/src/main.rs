@@ -7,6 +7,7 @@ use clap::{Parser, Subcommand};
 
 mod cmd;
 mod maps;
+mod render;
 
 #[derive(Parser)]
 #[command(
@@ -23,10 +24,14 @@ struct Cli {
 enum Command {
     /// Plan paths on a map; one JSON object per query.
     Plan(cmd::plan::PlanArgs),
+    /// Write example pictures (maps, terrain, convergence) to look at the renderer.
+    #[command(hide = true)]
+    RenderDemo(cmd::render_demo::RenderDemoArgs),
 }
 
 fn main() -> anyhow::Result<()> {
     match Cli::parse().command {
         Command::Plan(args) => cmd::plan::run(&args),
+        Command::RenderDemo(args) => cmd::render_demo::run(&args),
     }
 }
