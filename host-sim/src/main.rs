@@ -2,6 +2,7 @@
 //!
 //! Subcommands:
 //! - `plan`: plan queries on a Moving AI `.map` and print one JSON object a line.
+//! - `render-demo` (hidden): write example pictures (see `render`) into `target/render-demo/`.
 
 use clap::{Parser, Subcommand};
 

@@ -347,7 +347,8 @@ impl<'s> Scene<'s> {
         legend_w = legend_w
             .max(scale_cells * cell)
             .max(text_size(&scale_text, TEXT_PT).0);
-        let mut legend_h = entries.len() as i32 * ROW_H + 8 + 44;
+        // Entries, then the scale bar with its label.
+        let mut legend_h = entries.len() as i32 * ROW_H + 8 + 32;
         if let Background::Field { label, range, .. } = &parts.background {
             let label_w = text_size(label, TEXT_PT).0;
             let values_w = text_size(&fmt_value(range.0, range.1 - range.0), TICK_PT)
