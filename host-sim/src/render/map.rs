@@ -1123,6 +1123,69 @@ mod tests {
         std::fs::remove_dir_all(dir).unwrap();
     }
 
+    /// Decodes an RGB PNG into (width, pixels).
+    fn decode(path: &Path) -> (usize, Vec<u8>) {
+        let file = std::io::BufReader::new(std::fs::File::open(path).unwrap());
+        let mut reader = png::Decoder::new(file).read_info().unwrap();
+        let mut buf = vec![0; reader.output_buffer_size().unwrap()];
+        let info = reader.next_frame(&mut buf).unwrap();
+        assert_eq!(info.color_type, png::ColorType::Rgb);
+        (info.width as usize, buf)
+    }
+
+    #[test]
+    fn cells_land_where_the_convention_says() {
+        // Cell (4, 3) is blocked: column 4, row 3 from the top.
+        let grid = small_grid();
+        let mut pic = MapPicture::new(grid.view(), "convention");
+        pic.start = Some(Point::new(1.0, 8.0));
+        pic.goal = Some(Point::new(8.0, 1.0));
+        let scene = pic.scene().unwrap();
+        let dir = temp_dir("convention");
+        let png = dir.join("c.png");
+        pic.save_png(&png).unwrap();
+        let (w, pixels) = decode(&png);
+        let at = |p: Point| {
+            let (x, y) = scene.px(p);
+            let i = (y as usize * w + x as usize) * 3;
+            [pixels[i], pixels[i + 1], pixels[i + 2]]
+        };
+        assert_eq!(at(Point::new(4.0, 3.0)), BLOCKED);
+        assert_eq!(at(Point::new(3.0, 4.0)), [255, 255, 255]);
+        assert_eq!(at(Point::new(1.0, 8.0)), START_COLOR);
+        assert_eq!(at(Point::new(8.0, 1.0)), GOAL_COLOR);
+        std::fs::remove_dir_all(dir).unwrap();
+    }
+
+    #[test]
+    fn legend_lists_each_label_once() {
+        let grid = small_grid();
+        let mut pic = MapPicture::new(grid.view(), "t");
+        for i in 0..5 {
+            pic.discs.push(Disc {
+                label: "obstacle",
+                at: Point::new(i as f32, 1.0),
+                radius_cells: 0.5,
+                color: [1, 2, 3],
+            });
+            pic.markers.push(Marker {
+                label: if i == 0 { "" } else { "robot" },
+                at: Point::new(i as f32, 2.0),
+                shape: Shape::Square,
+                color: [4, 5, 6],
+                radius_cells: 0.3,
+            });
+        }
+        let texts: Vec<String> = pic
+            .scene()
+            .unwrap()
+            .entries
+            .into_iter()
+            .map(|e| e.text)
+            .collect();
+        assert_eq!(texts, ["blocked cell", "robot", "obstacle"]);
+    }
+
     #[test]
     fn big_map_stays_within_width_limits() {
         let mut grid = HostGrid::new(340, 164).unwrap();
