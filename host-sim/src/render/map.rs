@@ -388,13 +388,21 @@ impl<'s> Scene<'s> {
         })
     }
 
-    /// Pixel of a point in cell units.
-    fn px(&self, p: Point) -> (i32, i32) {
-        let c = self.cell as f32;
+    /// Pixel of a point in cell units, unrounded and unbounded.
+    fn pxf(&self, p: Point) -> (f64, f64) {
+        let c = self.cell as f64;
         (
-            self.map_x + ((p.x + 0.5) * c).round() as i32,
-            self.map_y + ((p.y + 0.5) * c).round() as i32,
+            self.map_x as f64 + (p.x as f64 + 0.5) * c,
+            self.map_y as f64 + (p.y as f64 + 0.5) * c,
         )
+    }
+
+    /// Pixel of a point if it lies within `margin` pixels of the canvas.
+    fn px_near(&self, p: Point, margin: f64) -> Option<(i32, i32)> {
+        let (x, y) = self.pxf(p);
+        let inside = |v: f64, max: i32| v >= -margin && v <= max as f64 + margin;
+        (inside(x, self.width_px) && inside(y, self.height_px))
+            .then(|| (x.round() as i32, y.round() as i32))
     }
 
     fn map_w(&self) -> i32 {
@@ -520,6 +528,49 @@ fn level_color(level: Option<u32>, bands: Option<u32>) -> Rgb {
             })
         }
     }
+}
+
+/// Liang-Barsky: the part of segment `a`-`b` inside `(x0, y0, x1, y1)`, if any.
+fn clip_segment(
+    a: (f64, f64),
+    b: (f64, f64),
+    (x0, y0, x1, y1): (f64, f64, f64, f64),
+) -> Option<((f64, f64), (f64, f64))> {
+    let (dx, dy) = (b.0 - a.0, b.1 - a.1);
+    let (mut t0, mut t1) = (0.0f64, 1.0f64);
+    for (p, q) in [
+        (-dx, a.0 - x0),
+        (dx, x1 - a.0),
+        (-dy, a.1 - y0),
+        (dy, y1 - a.1),
+    ] {
+        if p == 0.0 {
+            if q < 0.0 {
+                return None;
+            }
+        } else {
+            let r = q / p;
+            if p < 0.0 {
+                t0 = t0.max(r);
+            } else {
+                t1 = t1.min(r);
+            }
+        }
+    }
+    // Also rejects NaN (points are finite, but products of huge values may not be).
+    if t0.partial_cmp(&t1).is_none_or(|o| o.is_gt()) {
+        return None;
+    }
+    let at = |t: f64| {
+        if t == 0.0 {
+            a
+        } else if t == 1.0 {
+            b
+        } else {
+            (a.0 + t * dx, a.1 + t * dy)
+        }
+    };
+    Some((at(t0), at(t1)))
 }
 
 type DResult = anyhow::Result<()>;
@@ -785,13 +836,18 @@ impl Scene<'_> {
     }
 
     fn draw_overlays<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> DResult {
+        // Geometry is user data: nothing may reach plotters with coordinates or radii so big
+        // that its rasterisers overflow or spin, so sizes are capped and lines clipped.
         let c = self.cell as f32;
+        let canvas = (self.width_px + self.height_px) as f32;
         for d in self.parts.discs {
-            if !(d.at.is_finite() && d.radius_cells.is_finite()) {
+            if !d.radius_cells.is_finite() {
                 continue;
             }
-            let r = (d.radius_cells * c).round().max(2.0) as i32;
-            let center = self.px(d.at);
+            let r = (d.radius_cells * c).round().clamp(2.0, canvas) as i32;
+            let Some(center) = self.px_near(d.at, r as f64) else {
+                continue;
+            };
             root.draw(&Circle::new(center, r, rgb(d.color).mix(0.35).filled()))
                 .map_err(drawing_error)?;
             root.draw(&Circle::new(center, r, rgb(d.color).stroke_width(2)))
@@ -800,38 +856,62 @@ impl Scene<'_> {
         for layer in self.parts.layers {
             // Non-finite points split the polyline.
             for piece in layer.points.split(|p| !p.is_finite()) {
-                let pts: Vec<(i32, i32)> = piece.iter().map(|&p| self.px(p)).collect();
-                match pts.len() {
-                    0 => {}
-                    1 => {
-                        let r = (layer.style.width * 1.5).round().max(2.0) as i32;
-                        root.draw(&Circle::new(pts[0], r, rgb(layer.style.color).filled()))
+                if let [p] = piece {
+                    if let Some(at) = self.px_near(*p, 0.0) {
+                        let r = (layer.style.width * 1.5).round().clamp(2.0, 20.0) as i32;
+                        root.draw(&Circle::new(at, r, rgb(layer.style.color).filled()))
                             .map_err(drawing_error)?;
                     }
-                    _ => line(root, pts, layer.style)?,
+                    continue;
+                }
+                for run in self.clipped_runs(piece) {
+                    line(root, run, layer.style)?;
                 }
             }
         }
         for m in self.parts.markers {
-            if !(m.at.is_finite() && m.radius_cells.is_finite()) {
+            if !m.radius_cells.is_finite() {
                 continue;
             }
-            let r = (m.radius_cells * c).round().max(4.0) as i32;
-            symbol(root, m.shape, self.px(m.at), r, m.color)?;
+            let r = (m.radius_cells * c).round().clamp(4.0, 200.0) as i32;
+            if let Some(at) = self.px_near(m.at, r as f64) {
+                symbol(root, m.shape, at, r, m.color)?;
+            }
         }
         let end_r = (0.6 * c).round().clamp(6.0, 14.0) as i32;
         for (p, shape, color, name) in [
             (self.parts.start, Shape::Circle, START_COLOR, "start"),
             (self.parts.goal, Shape::Square, GOAL_COLOR, "goal"),
         ] {
-            let Some(p) = p.filter(|p| p.is_finite()) else {
+            let Some(at) = p.and_then(|p| self.px_near(p, end_r as f64)) else {
                 continue;
             };
-            let at = self.px(p);
             symbol(root, shape, at, end_r, color)?;
             self.tag(root, name, at, end_r)?;
         }
         Ok(())
+    }
+
+    /// A polyline's pixels, clipped to the canvas (plus a margin): runs of connected points.
+    fn clipped_runs(&self, points: &[Point]) -> Vec<Vec<(i32, i32)>> {
+        const M: f64 = 50.0;
+        let rect = (-M, -M, self.width_px as f64 + M, self.height_px as f64 + M);
+        let round = |(x, y): (f64, f64)| (x.round() as i32, y.round() as i32);
+        let mut runs: Vec<Vec<(i32, i32)>> = Vec::new();
+        let mut open = false;
+        for seg in points.windows(2) {
+            let (a, b) = (self.pxf(seg[0]), self.pxf(seg[1]));
+            let Some((ca, cb)) = clip_segment(a, b, rect) else {
+                open = false;
+                continue;
+            };
+            match runs.last_mut() {
+                Some(run) if open && ca == a => run.push(round(cb)),
+                _ => runs.push(vec![round(ca), round(cb)]),
+            }
+            open = cb == b;
+        }
+        runs
     }
 
     /// A label on a white box beside a marker, kept inside the map area where possible.
@@ -1054,6 +1134,24 @@ mod tests {
     }
 
     #[test]
+    fn segments_are_clipped_to_the_rectangle() {
+        let r = (0.0, 0.0, 10.0, 10.0);
+        assert_eq!(
+            clip_segment((1.0, 1.0), (2.0, 3.0), r),
+            Some(((1.0, 1.0), (2.0, 3.0)))
+        );
+        assert_eq!(
+            clip_segment((-10.0, 5.0), (20.0, 5.0), r),
+            Some(((0.0, 5.0), (10.0, 5.0)))
+        );
+        assert_eq!(clip_segment((-10.0, -1.0), (20.0, -1.0), r), None);
+        assert_eq!(clip_segment((11.0, 0.0), (20.0, 10.0), r), None);
+        let (a, b) = clip_segment((5.0, 5.0), (5.0e9, -5.0e9), r).unwrap();
+        assert_eq!(a, (5.0, 5.0));
+        assert!((b.0 - 10.0).abs() < 1e-6 && b.1.abs() < 1e-6, "{b:?}");
+    }
+
+    #[test]
     fn nice_below_rounds_down() {
         assert_eq!(nice_below(160.0 / 64.0), 2.0);
         assert_eq!(nice_below(160.0 / 3.0), 50.0);
@@ -1146,7 +1244,7 @@ mod tests {
         pic.save_png(&png).unwrap();
         let (w, pixels) = decode(&png);
         let at = |p: Point| {
-            let (x, y) = scene.px(p);
+            let (x, y) = scene.px_near(p, 0.0).unwrap();
             let i = (y as usize * w + x as usize) * 3;
             [pixels[i], pixels[i + 1], pixels[i + 2]]
         };
@@ -1250,6 +1348,31 @@ mod tests {
             .push(Layer::new("nan", &weird, Style::palette(1)));
         pic.start = Some(Point::new(f32::NAN, 0.0));
         pic.save_png(&dir.join("nan.png")).unwrap();
+        // Far-away geometry neither hangs nor panics.
+        let far = [
+            Point::new(1.0, 1.0),
+            Point::new(3e9, -2e9),
+            Point::new(-1e7, 5.0),
+        ];
+        let mut pic = MapPicture::new(grid.view(), "far");
+        pic.layers
+            .push(Layer::new("far", &far, Style::dashed([0, 0, 0], 2.0)));
+        pic.discs.push(Disc {
+            label: "huge",
+            at: Point::new(2.0, 2.0),
+            radius_cells: 1e9,
+            color: [1, 2, 3],
+        });
+        pic.markers.push(Marker {
+            label: "far",
+            at: Point::new(-1e9, 1e9),
+            shape: Shape::Triangle,
+            color: [1, 2, 3],
+            radius_cells: 1e8,
+        });
+        pic.goal = Some(Point::new(1e10, 0.0));
+        pic.save_png(&dir.join("far.png")).unwrap();
+        pic.save_svg(&dir.join("far.svg")).unwrap();
         std::fs::remove_dir_all(dir).unwrap();
     }
 }
