@@ -5,7 +5,8 @@
 //! ```
 //! Writes into `DIR` (default `target/render-demo`): `warehouse.{png,svg}` (real A* and Theta*
 //! paths on the map), `small.{png,svg}` (a 10 x 10 map with a path, a marker and a disc),
-//! `field.{png,svg}` (a synthetic height field) and `convergence.{png,svg}` (two made-up
+//! `field.{png,svg}` (a synthetic height field with a
+//! blocked block) and `convergence.{png,svg}` (two made-up
 //! decreasing series, titled as such).
 
 use crate::maps::{HostGrid, load_movingai};
@@ -129,12 +130,27 @@ pub fn run(args: &RenderDemoArgs) -> anyhow::Result<()> {
             hill(18.0, 14.0, 9.0, 4.0) + hill(42.0, 26.0, 12.0, 2.5)
         })
         .collect();
+    // A shelf across the valley, to show blocked cells over the field.
+    let mut shelves = HostGrid::new(w, h).map_err(anyhow::Error::msg)?;
+    for x in 28..34 {
+        for y in 8..20 {
+            shelves
+                .set_blocked(x, y, true)
+                .map_err(anyhow::Error::msg)?;
+        }
+    }
     let line = [Point::new(2.0, 37.0), Point::new(57.0, 3.0)];
-    let mut field = FieldPicture::new(w, h, &heights, "Synthetic terrain (two hills), top view");
+    let mut field = FieldPicture::new(
+        w,
+        h,
+        &heights,
+        "Synthetic terrain (two hills, one shelf), top view",
+    );
     field.value_label = "height (m)";
     field.bands = Some(8);
+    field.blocked = Some(shelves.view());
     field.layers.push(Layer::new(
-        "straight line (example)",
+        "straight line (not a plan)",
         &line,
         Style::palette(0),
     ));

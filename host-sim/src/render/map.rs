@@ -749,9 +749,19 @@ impl Scene<'_> {
                 range,
                 ..
             } => {
-                let lv = |x: usize, y: usize| level(values[y * w + x], *range, *bands);
+                let is_blocked = |x: usize, y: usize| {
+                    blocked.is_some_and(|b| b.is_blocked(x as isize, y as isize))
+                };
+                // Blocked cells count as one band of their own: no contours inside them.
+                let lv = |x: usize, y: usize| {
+                    if is_blocked(x, y) {
+                        Some(u32::MAX)
+                    } else {
+                        level(values[y * w + x], *range, *bands)
+                    }
+                };
                 runs(&|x, y| {
-                    if blocked.is_some_and(|b| b.is_blocked(x as isize, y as isize)) {
+                    if is_blocked(x, y) {
                         Some(BLOCKED)
                     } else {
                         Some(level_color(lv(x, y), *bands))
