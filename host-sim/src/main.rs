@@ -5,11 +5,13 @@
 //! - `optimize`: run a swarm optimizer on benchmark functions (JSON statistics);
 //! - `bench paper|movingai|speed`: the papers' tables, quality and speed benchmarks;
 //! - `maps`: write the seed-style maps as `.map` files.
+//! - `render-demo` (hidden): write example pictures (see `render`) into `target/render-demo/`.
 
 use clap::{Parser, Subcommand};
 
 mod cmd;
 mod maps;
+mod render;
 mod validate;
 
 #[derive(Parser)]
@@ -33,6 +35,9 @@ enum Command {
     Bench(cmd::bench::BenchArgs),
     /// Write the seed-style maps of the papers as Moving AI `.map` files.
     Maps(cmd::maps::MapsArgs),
+    /// Write example pictures (maps, terrain, convergence) to look at the renderer.
+    #[command(hide = true)]
+    RenderDemo(cmd::render_demo::RenderDemoArgs),
 }
 
 fn main() -> anyhow::Result<()> {
@@ -41,5 +46,6 @@ fn main() -> anyhow::Result<()> {
         Command::Optimize(args) => cmd::optimize::run(&args),
         Command::Bench(args) => cmd::bench::run(&args),
         Command::Maps(args) => cmd::maps::run(&args),
+        Command::RenderDemo(args) => cmd::render_demo::run(&args),
     }
 }

@@ -4,3 +4,4 @@ pub mod bench;
 pub mod maps;
 pub mod optimize;
 pub mod plan;
+pub mod render_demo;
