@@ -12,6 +12,16 @@ type Big = Grid<{ words_for(4096, 4096) }>;
 /// check) would then return paths that `path::validate` rejects.
 #[test]
 fn segment_is_clear_agrees_with_line_of_sight_on_a_4096_map() {
+    // The grid is several MiB and may be built on the stack before it is boxed.
+    std::thread::Builder::new()
+        .stack_size(64 << 20)
+        .spawn(segment_check_on_a_4096_map)
+        .unwrap()
+        .join()
+        .unwrap();
+}
+
+fn segment_check_on_a_4096_map() {
     let mut g: Box<Big> = Box::new(Big::new(4096, 4096).unwrap());
     g.set_blocked(3072, 3001, true).unwrap();
     let (a, b) = (Cell::new(0, 3000), Cell::new(4095, 3002));
