@@ -274,9 +274,65 @@ pub fn run(args: &PaperArgs) -> anyhow::Result<()> {
         let mut text = String::new();
         case.grid.write_movingai(&mut text)?;
         std::fs::write(args.out.join(format!("{}.map", case.name)), text)?;
+        figures(case, &runs, &args.out)?;
     }
     println!("\nwrote {}", args.out.display());
     Ok(())
+}
+
+/// The papers' figures for one map: the best path of each algorithm over the map, and the
+/// convergence curve (best cost per iteration) of each algorithm's best run. Costs that still
+/// carry an infeasibility penalty are left out of the curves (a gap until feasible).
+fn figures(case: &Case, runs: &[Run], out: &std::path::Path) -> anyhow::Result<()> {
+    use crate::render::{convergence_plot, Layer, MapPicture, Series, Style};
+    use planner_core::geometry::Point;
+    let penalty = planner_core::encoding::infeasible_penalty(case.grid.view());
+    let mut algos: Vec<&str> = Vec::new();
+    for r in runs.iter().filter(|r| r.map == case.name) {
+        if !algos.contains(&r.algo.as_str()) {
+            algos.push(&r.algo);
+        }
+    }
+    let best: Vec<(&str, Option<&Run>)> = algos
+        .iter()
+        .map(|a| {
+            let best = runs
+                .iter()
+                .filter(|r| r.map == case.name && r.algo == *a && r.success)
+                .min_by(|x, y| x.length.total_cmp(&y.length));
+            (*a, best)
+        })
+        .collect();
+    let paths: Vec<(String, Vec<Point>)> = best
+        .iter()
+        .filter_map(|(a, r)| r.map(|r| (format!("{a} (L = {:.2})", r.length), r.path.iter().map(|p| Point::new(p[0], p[1])).collect())))
+        .collect();
+    let title = format!("{}: best path of each algorithm", case.name);
+    let mut picture = MapPicture::new(case.grid.view(), &title);
+    for (i, (label, points)) in paths.iter().enumerate() {
+        let style = if i % 2 == 1 { Style::dashed(Style::palette(i).color, 2.5) } else { Style::palette(i) };
+        picture.layers.push(Layer::new(label, points, style));
+    }
+    picture.start = Some(case.start.center());
+    picture.goal = Some(case.goal.center());
+    picture.save_png(&out.join(format!("{}-paths.png", case.name)))?;
+    picture.save_svg(&out.join(format!("{}-paths.svg", case.name)))?;
+    let curves: Vec<(String, Vec<f32>)> = best
+        .iter()
+        .filter_map(|(a, r)| {
+            r.map(|r| (a.to_string(), r.history.iter().map(|&v| if v < penalty { v } else { f32::NAN }).collect()))
+        })
+        .collect();
+    let series: Vec<Series> = curves.iter().map(|(a, v)| Series::new(a, v)).collect();
+    let title = format!("{}: convergence of the best run", case.name);
+    convergence_plot(
+        &title,
+        "iteration",
+        "best path cost",
+        &series,
+        Some(&out.join(format!("{}-convergence.png", case.name))),
+        Some(&out.join(format!("{}-convergence.svg", case.name))),
+    )
 }
 
 fn run_case(
