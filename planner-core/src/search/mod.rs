@@ -388,6 +388,93 @@ impl Drop for Open<'_> {
     }
 }
 
+/// One neighbour offered to a planner's relaxation rule by [`best_first`].
+pub(crate) struct Step {
+    /// The cell being expanded.
+    pub i: usize,
+    /// The neighbour.
+    pub j: usize,
+    /// The neighbour's coordinates.
+    pub nx: isize,
+    /// The neighbour's coordinates.
+    pub ny: isize,
+    /// Cost of the grid move `i -> j` (1 or sqrt 2).
+    pub cost: f32,
+    /// Heuristic of the neighbour.
+    pub h: f32,
+}
+
+/// The best-first loop A* and Theta* share: endpoint checks, storage and reachability
+/// checks, the open list, the allowed 8-connected moves, and the path at the end. They differ
+/// only in their heuristic and in how a neighbour is relaxed (`relax`, called for every
+/// allowed move to a cell that is not closed yet).
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn best_first(
+    grid: GridRef<'_>,
+    start: Cell,
+    goal: Cell,
+    labels: Option<&[u32]>,
+    nodes: &mut [SearchNode],
+    out: &mut PathView,
+    heuristic: fn(isize, isize, isize, isize) -> f32,
+    mut relax: impl FnMut(&mut Open<'_>, &Step),
+) -> Result<SearchStats, PlanError> {
+    check_endpoints(grid, start, goal)?;
+    if nodes.len() < grid.cells() {
+        return Err(PlanError::CapacityExceeded);
+    }
+    if let Some(labels) = labels
+        && !connectivity::connected(grid, labels, start, goal)?
+    {
+        return Err(PlanError::NoValidPath);
+    }
+    let width = grid.width() as isize;
+    let (Some(s), Some(t)) = (grid.index(start), grid.index(goal)) else {
+        return Err(PlanError::StartOutsideMap);
+    };
+    let (gx, gy) = (goal.x as isize, goal.y as isize);
+    let mut open = Open::new(nodes);
+    open.relax(
+        s,
+        0.0,
+        heuristic(start.x as isize, start.y as isize, gx, gy),
+        s,
+    );
+    let mut expanded = 0u32;
+    while let Some(i) = open.pop() {
+        expanded += 1;
+        if i == t {
+            let length = open.g(t);
+            open.write_path(grid, s, t, out)?;
+            return Ok(SearchStats { length, expanded });
+        }
+        let (x, y) = ((i as isize) % width, (i as isize) / width);
+        let mut moves = allowed_moves(grid, x, y);
+        while moves != 0 {
+            let (dx, dy, cost) = MOVES[moves.trailing_zeros() as usize];
+            moves &= moves - 1;
+            let (nx, ny) = (x + dx as isize, y + dy as isize);
+            let j = (ny * width + nx) as usize;
+            if open.is_closed(j) {
+                continue;
+            }
+            let h = heuristic(nx, ny, gx, gy);
+            relax(
+                &mut open,
+                &Step {
+                    i,
+                    j,
+                    nx,
+                    ny,
+                    cost,
+                    h,
+                },
+            );
+        }
+    }
+    Err(PlanError::NoValidPath)
+}
+
 /// Octile heuristic between row-major indices' cells, without division in the hot loop.
 #[inline]
 pub(crate) fn octile_xy(ax: isize, ay: isize, bx: isize, by: isize) -> f32 {
