@@ -292,6 +292,11 @@ pub fn plan<const N: usize, const D: usize>(
 ) -> Result<PlanReport, PlanError> {
     check_endpoints(grid, start, goal)?;
     check_params(params)?;
+    // Checked here as well as by the optimizer, so that a query that needs no optimizing
+    // (a straight guide) reports the same error as any other.
+    if params.population > N {
+        return Err(PlanError::CapacityExceeded);
+    }
     // The exact reference route doubles as the reachability test: A* exhausts the start's
     // component before it reports NoValidPath.
     astar::plan(grid, start, goal, ws.nodes, ws.guide)?;
