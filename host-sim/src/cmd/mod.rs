@@ -5,3 +5,4 @@ pub mod maps;
 pub mod optimize;
 pub mod plan;
 pub mod render_demo;
+pub mod terrain;
