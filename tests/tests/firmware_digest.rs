@@ -10,12 +10,13 @@
 #[path = "../firmware/src/scenario.rs"]
 mod scenario;
 
+use planner_core::search::SearchNode;
 use scenario::{CASES, Nodes, Storage};
 
 #[test]
 fn host_digest_matches_the_mcu() {
     let mut s = Box::new(Storage::new());
-    let mut nodes: Box<Nodes> = vec![scenario::NODES[0]; scenario::CELLS]
+    let mut nodes: Box<Nodes> = vec![SearchNode::EMPTY; scenario::CELLS]
         .into_boxed_slice()
         .try_into()
         .unwrap();

@@ -14,13 +14,14 @@ use cortex_m::peripheral::syst::SystClkSource;
 use cortex_m_rt::{entry, exception};
 use cortex_m_semihosting::{debug, hprintln};
 use panic_semihosting as _;
+use planner_core::search::SearchNode;
 
 mod scenario;
 use scenario::{CASES, Nodes, Outcome, Storage};
 
 /// All planner state lives in statics (the linker checks them against the RAM budget).
 /// The A* nodes are all-zero: `.bss`.
-static mut NODES: Nodes = scenario::NODES;
+static mut NODES: Nodes = [SearchNode::EMPTY; scenario::CELLS];
 /// Map, paths, stations and optimizers.
 static mut STORAGE: Storage = Storage::new();
 
@@ -151,5 +152,7 @@ fn main() -> ! {
     } else {
         debug::EXIT_FAILURE
     });
-    loop {}
+    loop {
+        cortex_m::asm::wfi();
+    }
 }

@@ -42,9 +42,6 @@ pub const SEED: u64 = 0x5EED_0008;
 /// in `.bss` (kept apart from [`Storage`], whose non-zero parts put it in `.data`).
 pub type Nodes = [SearchNode; CELLS];
 
-/// The empty node array (for a `static`).
-pub const NODES: Nodes = [SearchNode::EMPTY; CELLS];
-
 /// The rest of the planner state, sized for the capacity above. `const fn new` so that it can
 /// be a `static` (built at link time, no large temporary on the stack).
 pub struct Storage {
