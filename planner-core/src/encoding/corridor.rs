@@ -40,6 +40,18 @@ pub struct Station {
     arc_to_next: f32,
 }
 
+impl Station {
+    /// An unused station (for array and `static` initialisers).
+    pub const EMPTY: Station = Station {
+        index: 0,
+        point: Point::new(0.0, 0.0),
+        normal: (0.0, 0.0),
+        neg: 0.0,
+        pos: 0.0,
+        arc_to_next: 0.0,
+    };
+}
+
 /// Step of the extent scan along a normal, in cells.
 const EXTENT_STEP: f32 = 0.25;
 

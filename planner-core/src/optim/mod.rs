@@ -535,13 +535,8 @@ pub(crate) fn copy(dst: &mut [f32], src: &[f32]) {
     }
 }
 
-/// Square root. `libm::sqrtf` is correctly rounded, so it is bit-identical to the FPU's
-/// `VSQRT.F32`; using the FPU instruction on Cortex-M4F would need `asm!` (unsafe), which
-/// this crate denies: this single function is where to change that.
-#[inline]
-pub(crate) fn sqrtf(x: f32) -> f32 {
-    libm::sqrtf(x)
-}
+/// Square root: [`crate::math::sqrt`] (the FPU's `VSQRT.F32` on hard-float targets).
+pub(crate) use crate::math::sqrt as sqrtf;
 
 /// How the initial population is generated (before any caller-supplied rows replace rows).
 #[derive(Debug, Clone, Copy, PartialEq)]

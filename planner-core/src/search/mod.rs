@@ -37,7 +37,7 @@ use crate::path::PathView;
 pub struct SearchNode {
     g: f32,
     parent: u32,
-    /// The cell's state: `NEW`, `CLOSED`, or else open at this position of the heap.
+    /// The cell's state: `NEW`, `CLOSED`, or else open at heap position `heap_pos - 2`.
     heap_pos: u32,
     /// Slot `i` of the open heap (or of the stack of closed cells, which grows down from
     /// the end of the array) is stored in `nodes[i]`: the cell and, for the heap, its key
@@ -48,11 +48,15 @@ pub struct SearchNode {
     slot_cell: u32,
 }
 
-/// `heap_pos` of a cell not reached yet. (Heap positions stay below the cell count, at
-/// most 65535^2 < `CLOSED`.)
-const NEW: u32 = u32::MAX;
+/// `heap_pos` of a cell not reached yet. Zero, so that [`SearchNode::EMPTY`] is all-zero
+/// bytes and a `static` node array lands in `.bss` (no flash image). Open cells store their
+/// heap position plus 2 (heap positions stay below the cell count, at most 65535^2, so
+/// this never overflows).
+const NEW: u32 = 0;
 /// `heap_pos` of a closed cell.
-const CLOSED: u32 = u32::MAX - 1;
+const CLOSED: u32 = 1;
+/// Offset of a stored heap position.
+const OPEN_BASE: u32 = 2;
 
 impl SearchNode {
     /// An unused node (for array initialisers).
@@ -257,7 +261,7 @@ impl<'n> Open<'n> {
                 self.len - 1
             }
             _ if g >= node.g => return,
-            pos => pos as usize,
+            pos => (pos - OPEN_BASE) as usize,
         };
         node.g = g;
         node.parent = parent as u32;
@@ -297,7 +301,7 @@ impl<'n> Open<'n> {
         slot.slot_f = (e.key >> 32) as u32;
         slot.slot_g = e.key as u32;
         slot.slot_cell = e.cell;
-        self.nodes[e.cell as usize].heap_pos = pos as u32;
+        self.nodes[e.cell as usize].heap_pos = pos as u32 + OPEN_BASE;
     }
 
     /// Moves `e`, to be stored at `pos`, up to its place.
