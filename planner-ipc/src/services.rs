@@ -200,10 +200,11 @@ pub fn cleanup_dead_nodes(node: &Node<Svc>) -> usize {
     cleaned
 }
 
-/// Lowers iceoryx2's own log level to errors unless `RUST_LOG` asks for more (it warns
-/// about the missing optional config file on every start).
+/// Lowers iceoryx2's own log level to errors unless `RUST_LOG` mentions `iceoryx2` (it
+/// warns about the missing optional config file on every start, and dumps whole configs).
 pub fn quiet_iceoryx_logs() {
-    if std::env::var_os("RUST_LOG").is_none() {
+    let wanted = std::env::var("RUST_LOG").is_ok_and(|v| v.contains("iceoryx2"));
+    if !wanted {
         iceoryx2::prelude::set_log_level(LogLevel::Error);
     }
 }
