@@ -33,7 +33,7 @@ fn typed_errors_while_the_server_keeps_serving() {
     let ok = c.plan(&good, T).unwrap();
     assert!((ok.length - 157.0114).abs() < 1e-3, "{}", ok.length);
     assert_eq!(ok.path.len(), 4);
-    let mut still_serving = |c: &mut planner_ipc::client::PlannerClient, map: (u32, u32)| {
+    let still_serving = |c: &mut planner_ipc::client::PlannerClient, map: (u32, u32)| {
         let mut r = good;
         r.map_id = map.0;
         r.map_version = map.1;
