@@ -137,17 +137,18 @@ pub fn driver(args: &[&str]) -> Proc {
     Proc { child, log: None }
 }
 
-/// Reads a driver's whole stdout after it exits.
+/// Reads a driver's whole stdout (until it closes it), then reaps the driver.
 pub fn driver_output(proc: &mut Proc, timeout: Duration) -> String {
-    let status = proc.wait_exit(timeout).expect("driver did not finish");
-    assert!(status.success(), "driver failed: {status:?}");
     let mut out = String::new();
+    // Read first: a driver blocked on a full pipe would never exit.
     proc.child
         .stdout
         .take()
         .unwrap()
         .read_to_string(&mut out)
         .unwrap();
+    let status = proc.wait_exit(timeout).expect("driver did not finish");
+    assert!(status.success(), "driver failed: {status:?}");
     out
 }
 
