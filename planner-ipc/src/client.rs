@@ -60,6 +60,9 @@ pub struct ClientConfig {
     pub wait: Wait,
     /// Node name (shows in iceoryx2's node list).
     pub node_name: String,
+    /// Notify the server's wake event after each request (needed when the server runs in
+    /// blocking mode; a busy server polls, so a busy client may skip this syscall).
+    pub notify_server: bool,
 }
 
 impl Default for ClientConfig {
@@ -71,6 +74,7 @@ impl Default for ClientConfig {
                 spin: Duration::from_micros(20),
             },
             node_name: "planner-client".into(),
+            notify_server: true,
         }
     }
 }
@@ -268,6 +272,15 @@ impl PlannerClient {
         Ok(())
     }
 
+    /// Publishes a ready-made frame as is (the receiver validates it).
+    pub fn publish_frame(&mut self, frame: &MapFrame) -> Result<(), ClientError> {
+        let ports = self.map_ports()?;
+        let sample = ports.publisher.loan_uninit().map_err(ipc)?;
+        sample.write_payload(frame.clone()).send().map_err(ipc)?;
+        self.versions.insert(frame.map_id, frame.version);
+        Ok(())
+    }
+
     /// Parses a Moving AI `.map` file and publishes it as `map_id` with the next version
     /// this client uses for that id (starting at 1); returns the version.
     pub fn upload_map_file(&mut self, path: &Path, map_id: u32) -> Result<u32, ClientError> {
@@ -345,12 +358,15 @@ impl PlannerClient {
         self.next_id += 1;
         request.wake_token = self.wake.as_ref().map_or(0, |w| w.token);
         let wait = self.config.wait;
+        let notify = self.config.notify_server;
         let ports = self.plan_ports()?;
         let pending = ports.client.send_copy(request).map_err(ipc)?;
         if pending.number_of_server_connections() == 0 {
             return Err(ClientError::NoServer);
         }
-        let _ = ports.wake_server.notify();
+        if notify {
+            let _ = ports.wake_server.notify();
+        }
         let deadline = began + timeout;
         let spin_until = match wait {
             Wait::Busy => deadline,

@@ -154,6 +154,8 @@ pub fn run(config: &ServerConfig, shutdown: &AtomicBool) -> anyhow::Result<()> {
         {
             busy = true;
             let now = Instant::now();
+            // A map published before this request may have landed after the drain above.
+            drain_maps(&shared, &subscriber)?;
             if workers > 1 {
                 if tx.send((active, now)).is_err() {
                     anyhow::bail!("worker pool stopped");
