@@ -20,8 +20,8 @@
 
 use crate::services::{self, EventService, Limits, MapService, Names, PlanService, Svc};
 use crate::wire::{
-    DecodeError, Failure, MAP_CAPACITY_CELLS, MapFrame, MapMeta, PlanOk, PlanRequest, PlanResponse,
-    RequestKind, ServiceError, WireGrid,
+    DecodeError, Failure, MAP_CAPACITY_CELLS, MapHeader, MapMeta, PlanOk, PlanRequest,
+    PlanResponseHeader, RequestKind, ServiceError, Waypoint, WireGrid, pack_map,
 };
 use iceoryx2::node::Node;
 use iceoryx2::port::client::Client;
@@ -155,15 +155,15 @@ fn ipc<E: fmt::Debug>(e: E) -> ClientError {
 
 struct PlanPorts {
     _service: PlanService,
-    client: Client<Svc, PlanRequest, (), PlanResponse, ()>,
+    client: Client<Svc, PlanRequest, (), [Waypoint], PlanResponseHeader>,
     _wake_service: EventService,
     wake_server: Notifier<Svc>,
 }
 
 struct MapPorts {
     _service: MapService,
-    publisher: Publisher<Svc, MapFrame, ()>,
-    frame: Box<MapFrame>,
+    publisher: Publisher<Svc, [u32], MapHeader>,
+    words: Vec<u32>,
 }
 
 struct OwnWake {
@@ -247,11 +247,15 @@ impl PlannerClient {
             let service =
                 services::map_service(&self.node, &self.config.names, &self.config.limits)
                     .map_err(|e| ClientError::Ipc(e.to_string()))?;
-            let publisher = service.publisher_builder().create().map_err(ipc)?;
+            let publisher = service
+                .publisher_builder()
+                .initial_max_slice_len(services::MAP_SLICE_CAPACITY)
+                .create()
+                .map_err(ipc)?;
             self.map = Some(MapPorts {
                 _service: service,
                 publisher,
-                frame: MapFrame::zeroed(),
+                words: Vec::new(),
             });
         }
         self.map.as_mut().ok_or(ClientError::NoServer)
@@ -262,22 +266,30 @@ impl PlannerClient {
     /// restarts) later still gets it while this client lives.
     pub fn upload_map(&mut self, meta: MapMeta, grid: GridRef<'_>) -> Result<(), ClientError> {
         let ports = self.map_ports()?;
-        ports.frame.fill(meta, grid).map_err(ClientError::Service)?;
-        let sample = ports.publisher.loan_uninit().map_err(ipc)?;
-        sample
-            .write_payload((*ports.frame).clone())
-            .send()
-            .map_err(ipc)?;
-        self.versions.insert(meta.map_id, meta.version);
-        Ok(())
+        let mut words = std::mem::take(&mut ports.words);
+        let header = pack_map(meta, grid, &mut words).map_err(ClientError::Service);
+        let result = header.and_then(|h| self.publish_map(&h, &words));
+        if let Some(ports) = self.map.as_mut() {
+            ports.words = words;
+        }
+        result
     }
 
-    /// Publishes a ready-made frame as is (the receiver validates it).
-    pub fn publish_frame(&mut self, frame: &MapFrame) -> Result<(), ClientError> {
+    /// Publishes a ready-made frame as is (the receiver validates it): only the used
+    /// words are copied into shared memory.
+    pub fn publish_map(&mut self, header: &MapHeader, words: &[u32]) -> Result<(), ClientError> {
         let ports = self.map_ports()?;
-        let sample = ports.publisher.loan_uninit().map_err(ipc)?;
-        sample.write_payload(frame.clone()).send().map_err(ipc)?;
-        self.versions.insert(frame.map_id, frame.version);
+        if words.len() > services::MAP_SLICE_CAPACITY {
+            return Err(ClientError::Service(ServiceError::MapTooLarge));
+        }
+        let sample = ports
+            .publisher
+            .loan_slice_uninit(words.len())
+            .map_err(ipc)?;
+        let mut sample = sample.write_from_slice(words);
+        *sample.user_header_mut() = *header;
+        sample.send().map_err(ipc)?;
+        self.versions.insert(header.map_id, header.version);
         Ok(())
     }
 
@@ -374,13 +386,16 @@ impl PlannerClient {
         };
         loop {
             if let Some(response) = pending.receive().map_err(ipc)? {
-                if response.request_id != request.request_id {
+                let header = response.user_header();
+                if header.request_id != request.request_id {
                     return Err(ClientError::Mismatch {
                         expected: request.request_id,
-                        got: response.request_id,
+                        got: header.request_id,
                     });
                 }
-                let result = response.to_result().map_err(ClientError::BadResponse)?;
+                let result = header
+                    .decode(response.payload())
+                    .map_err(ClientError::BadResponse)?;
                 return match result.outcome {
                     Ok(ok) => Ok((ok, result.time_us)),
                     Err(f) => Err(f.into()),

@@ -15,7 +15,10 @@
 
 use crate::engine::{Engine, MapUpdate, Scratch};
 use crate::services::{self, Limits, Names, Svc};
-use crate::wire::{Failure, PlanRequest, PlanResponse, PlanResult, ServiceError};
+use crate::wire::{
+    Failure, MapHeader, PlanRequest, PlanResponseHeader, PlanResult, ServiceError, Waypoint,
+    grid_from_bits,
+};
 use iceoryx2::active_request::ActiveRequest;
 use iceoryx2::node::Node;
 use iceoryx2::port::notifier::Notifier;
@@ -69,7 +72,7 @@ impl Default for ServerConfig {
     }
 }
 
-type Active = ActiveRequest<Svc, PlanRequest, (), PlanResponse, ()>;
+type Active = ActiveRequest<Svc, PlanRequest, (), [Waypoint], PlanResponseHeader>;
 
 /// State shared by the port thread and the workers.
 struct Shared {
@@ -109,6 +112,7 @@ pub fn run(config: &ServerConfig, shutdown: &AtomicBool) -> anyhow::Result<()> {
     let plan_service = services::plan_service_create(&node, &config.names, &config.limits)?;
     let server = plan_service
         .server_builder()
+        .initial_max_slice_len(services::PATH_SLICE_CAPACITY)
         .create()
         .map_err(|e| anyhow::anyhow!("plan server port: {e:?}"))?;
     let wake_service = services::event_service(&node, &config.names.plan_wake()?, &config.limits)?;
@@ -212,7 +216,7 @@ pub fn run(config: &ServerConfig, shutdown: &AtomicBool) -> anyhow::Result<()> {
 /// Stores every map frame waiting in the subscriber; returns whether there was any.
 fn drain_maps(
     shared: &Shared,
-    subscriber: &iceoryx2::port::subscriber::Subscriber<Svc, crate::wire::MapFrame, ()>,
+    subscriber: &iceoryx2::port::subscriber::Subscriber<Svc, [u32], MapHeader>,
 ) -> anyhow::Result<bool> {
     let mut any = false;
     while let Some(sample) = subscriber
@@ -220,10 +224,16 @@ fn drain_maps(
         .map_err(|e| anyhow::anyhow!("map receive: {e:?}"))?
     {
         any = true;
-        let frame = &*sample;
+        let frame = *sample.user_header();
         let meta = frame.meta();
         let began = Instant::now();
-        let grid = frame.to_grid(shared.engine.store.max_cells());
+        let grid = grid_from_bits(
+            frame.width,
+            frame.height,
+            sample.payload(),
+            shared.engine.store.max_cells(),
+        );
+        drop(sample);
         let result = shared.engine.store.update(meta, grid);
         match result {
             MapUpdate::Stored => log::info!(
@@ -318,16 +328,22 @@ fn respond(shared: &Shared, active: Active, request: &PlanRequest, result: &Plan
         );
         return;
     }
-    let mut response = PlanResponse::zeroed();
-    response.reset(request);
-    result.write_to(&mut response);
+    let header = PlanResponseHeader::new(request, result);
+    let path = match &result.outcome {
+        Ok(ok) => &ok.path[..header.waypoints as usize],
+        Err(_) => &[],
+    };
+    // Only the used waypoints are written into shared memory.
     let sent = active
-        .loan_uninit()
+        .loan_slice_uninit(path.len())
         .map_err(|e| format!("{e:?}"))
         .and_then(|r| {
-            r.write_payload(*response)
-                .send()
-                .map_err(|e| format!("{e:?}"))
+            let mut r = r.write_from_fn(|i| Waypoint {
+                x: path[i].x,
+                y: path[i].y,
+            });
+            *r.user_header_mut() = header;
+            r.send().map_err(|e| format!("{e:?}"))
         });
     if let Err(e) = sent {
         log::warn!("request {}: cannot send response: {e}", request.request_id);

@@ -2,15 +2,16 @@
 //! server and the clients open them with identical settings.
 //!
 //! Services under a configurable prefix `P` (tests use a unique prefix per test):
-//! - `P/map`: publish-subscribe of [`MapFrame`] (host publishes, server subscribes; the
+//! - `P/map`: publish-subscribe of map frames: [`MapHeader`] + `[u32]` words (host
+//!   publishes, server subscribes; the
 //!   publisher keeps a history so that a late or restarted server gets the current maps);
-//! - `P/plan`: request-response [`PlanRequest`] -> [`PlanResponse`];
+//! - `P/plan`: request-response [`PlanRequest`] -> [`PlanResponseHeader`] + `[Waypoint]`;
 //! - `P/plan-wake`: event; clients notify it after sending a request so that a blocking
 //!   server wakes up;
 //! - `P/client-wake/T`: event per blocking client (token `T`); the server notifies it after
 //!   answering that client.
 
-use crate::wire::{MapFrame, PlanRequest, PlanResponse};
+use crate::wire::{MAP_WORDS, MAX_WAYPOINTS, MapHeader, PlanRequest, PlanResponseHeader, Waypoint};
 use iceoryx2::node::Node;
 use iceoryx2::node::NodeView;
 use iceoryx2::prelude::*;
@@ -24,9 +25,9 @@ use iceoryx2::service::port_factory::request_response::PortFactory as ReqRespFac
 pub type Svc = ipc_threadsafe::Service;
 
 /// The map service's factory.
-pub type MapService = PubSubFactory<Svc, MapFrame, ()>;
+pub type MapService = PubSubFactory<Svc, [u32], MapHeader>;
 /// The plan service's factory.
-pub type PlanService = ReqRespFactory<Svc, PlanRequest, (), PlanResponse, ()>;
+pub type PlanService = ReqRespFactory<Svc, PlanRequest, (), [Waypoint], PlanResponseHeader>;
 /// An event service's factory.
 pub type EventService = EventFactory<Svc>;
 
@@ -106,7 +107,8 @@ pub fn node(name: &str) -> anyhow::Result<Node<Svc>> {
 /// Opens or creates the map service.
 pub fn map_service(node: &Node<Svc>, names: &Names, limits: &Limits) -> anyhow::Result<MapService> {
     node.service_builder(&names.map()?)
-        .publish_subscribe::<MapFrame>()
+        .publish_subscribe::<[u32]>()
+        .user_header::<MapHeader>()
         .history_size(limits.map_history)
         .subscriber_max_buffer_size(limits.map_history.max(2))
         .max_publishers(limits.max_clients)
@@ -143,11 +145,18 @@ fn plan_builder(
     names: &Names,
     limits: &Limits,
 ) -> anyhow::Result<
-    iceoryx2::service::builder::request_response::Builder<PlanRequest, (), PlanResponse, (), Svc>,
+    iceoryx2::service::builder::request_response::Builder<
+        PlanRequest,
+        (),
+        [Waypoint],
+        PlanResponseHeader,
+        Svc,
+    >,
 > {
     Ok(node
         .service_builder(&names.plan()?)
-        .request_response::<PlanRequest, PlanResponse>()
+        .request_response::<PlanRequest, [Waypoint]>()
+        .response_user_header::<PlanResponseHeader>()
         // Never overwrite a queued request or response: every request gets its answer.
         .enable_safe_overflow_for_requests(false)
         .enable_safe_overflow_for_responses(false)
@@ -208,3 +217,8 @@ pub fn quiet_iceoryx_logs() {
         iceoryx2::prelude::set_log_level(LogLevel::Error);
     }
 }
+
+/// Slice capacity of a map publisher: a whole 512 x 512 frame.
+pub const MAP_SLICE_CAPACITY: usize = MAP_WORDS;
+/// Slice capacity of a plan server's responses.
+pub const PATH_SLICE_CAPACITY: usize = MAX_WAYPOINTS;

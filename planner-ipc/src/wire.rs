@@ -1,11 +1,12 @@
 //! Wire types: the fixed-layout (`#[repr(C)]`, [`ZeroCopySend`]) payloads that travel through
-//! iceoryx2 shared memory, their conversion to and from planner-core types with validation,
+//! iceoryx2 shared memory (a fixed header plus a slice of fixed elements where the size
+//! varies: map words, path waypoints), their conversion to and from planner-core types with validation,
 //! and serde mirrors for byte streams (postcard over a socket, logs).
 //!
 //! Every field a peer writes is untrusted: conversions check ranges and finiteness and turn
 //! garbage into a typed [`ServiceError`] or [`PlanError`], never a panic.
 //!
-//! Status codes of a [`PlanResponse`]: `0` = ok; `1..=8` = [`PlanError::ALL`] in order
+//! Status codes of a [`PlanResponseHeader`]: `0` = ok; `1..=8` = [`PlanError::ALL`] in order
 //! (index + 1); `100..` = [`ServiceError`] (see [`ServiceError::code`]).
 
 use iceoryx2::prelude::ZeroCopySend;
@@ -15,13 +16,13 @@ use planner_core::grid::{Grid, GridRef, words_for};
 use serde::{Deserialize, Serialize};
 use std::fmt;
 
-/// Side of the largest square map a [`MapFrame`] carries.
+/// Side of the largest square map a map frame carries.
 pub const MAP_CAPACITY_SIDE: usize = 512;
-/// Cells a [`MapFrame`] can carry (`512 x 512`); larger maps are [`ServiceError::MapTooLarge`].
+/// Cells a map frame can carry (`512 x 512`); larger maps are [`ServiceError::MapTooLarge`].
 pub const MAP_CAPACITY_CELLS: usize = MAP_CAPACITY_SIDE * MAP_CAPACITY_SIDE;
 /// 32-bit words of a frame's bit-packed grid.
 pub const MAP_WORDS: usize = words_for(MAP_CAPACITY_CELLS, 1);
-/// Most waypoints a [`PlanResponse`] carries; a longer path is [`PlanError::CapacityExceeded`].
+/// Most waypoints a [`PlanResponseHeader`] carries; a longer path is [`PlanError::CapacityExceeded`].
 pub const MAX_WAYPOINTS: usize = 2048;
 
 /// The grid type that holds any map a frame can carry.
@@ -212,12 +213,14 @@ impl Algorithm {
     }
 }
 
-/// A map frame: an occupancy grid of up to [`MAP_CAPACITY_CELLS`] cells, bit-packed like
-/// planner-core's grid (cell `i = y * width + x` is bit `i % 32` of word `i / 32`; set =
-/// blocked), with its identity and placement in the world.
-#[derive(Debug, Clone, ZeroCopySend)]
+/// The header of a map frame. A frame is this header (iceoryx2 user header) plus a slice
+/// of [`MapHeader::words`] bit-packed 32-bit words, packed like planner-core's grid (cell
+/// `i = y * width + x` is bit `i % 32` of word `i / 32`; set = blocked). The publisher's
+/// slice capacity is [`MAP_WORDS`] (512 x 512 cells): larger maps are
+/// [`ServiceError::MapTooLarge`]. Only the used words travel.
+#[derive(Debug, Clone, Copy, Default, PartialEq, ZeroCopySend, Serialize, Deserialize)]
 #[repr(C)]
-pub struct MapFrame {
+pub struct MapHeader {
     /// Which map (several maps may be served at once).
     pub map_id: u32,
     /// Monotonic version of this map id; requests name the version they planned against.
@@ -232,8 +235,6 @@ pub struct MapFrame {
     pub origin: [f32; 2],
     /// Reserved, zero.
     pub reserved: u32,
-    /// The bit-packed cells; words past `width * height` bits are ignored.
-    pub bits: [u32; MAP_WORDS],
 }
 
 /// Metadata of a map, without its cells.
@@ -249,53 +250,8 @@ pub struct MapMeta {
     pub origin: [f32; 2],
 }
 
-impl MapFrame {
-    /// An empty frame (all words zero), for in-place filling.
-    pub fn zeroed() -> Box<Self> {
-        Box::new(MapFrame {
-            map_id: 0,
-            version: 0,
-            width: 0,
-            height: 0,
-            resolution: 0.0,
-            origin: [0.0; 2],
-            reserved: 0,
-            bits: [0; MAP_WORDS],
-        })
-    }
-
-    /// Fills this frame from a grid. Errors with [`ServiceError::MapTooLarge`] when the grid
-    /// has more cells than the frame holds.
-    pub fn fill(&mut self, meta: MapMeta, grid: GridRef<'_>) -> Result<(), ServiceError> {
-        let (w, h) = (grid.width(), grid.height());
-        if w == 0 || h == 0 || w.saturating_mul(h) > MAP_CAPACITY_CELLS {
-            return Err(ServiceError::MapTooLarge);
-        }
-        self.map_id = meta.map_id;
-        self.version = meta.version;
-        self.width = w as u32;
-        self.height = h as u32;
-        self.resolution = meta.resolution;
-        self.origin = meta.origin;
-        self.reserved = 0;
-        let cells = w * h;
-        for (word_index, word) in self.bits.iter_mut().enumerate() {
-            *word = 0;
-            let base = word_index * 32;
-            if base >= cells {
-                continue;
-            }
-            for bit in 0..32.min(cells - base) {
-                let i = base + bit;
-                if grid.is_blocked((i % w) as isize, (i / w) as isize) {
-                    *word |= 1 << bit;
-                }
-            }
-        }
-        Ok(())
-    }
-
-    /// The frame's metadata.
+impl MapHeader {
+    /// The header's metadata.
     pub fn meta(&self) -> MapMeta {
         MapMeta {
             map_id: self.map_id,
@@ -305,14 +261,50 @@ impl MapFrame {
         }
     }
 
-    /// Validates the header and rebuilds the grid. `max_cells` is the receiver's own limit
-    /// (at most [`MAP_CAPACITY_CELLS`]).
-    pub fn to_grid(&self, max_cells: usize) -> Result<Box<WireGrid>, ServiceError> {
-        grid_from_bits(self.width, self.height, &self.bits, max_cells)
+    /// Words the cells take (`ceil(width * height / 32)`), saturating on garbage sizes.
+    pub fn words(&self) -> usize {
+        (self.width as usize)
+            .saturating_mul(self.height as usize)
+            .div_ceil(32)
     }
 }
 
-/// Rebuilds a grid from bit-packed words (shared by the frame and its serde mirror).
+/// Packs a grid into a frame: header and words. Errors with [`ServiceError::MapTooLarge`]
+/// beyond the frame capacity.
+pub fn pack_map(
+    meta: MapMeta,
+    grid: GridRef<'_>,
+    words: &mut Vec<u32>,
+) -> Result<MapHeader, ServiceError> {
+    let (w, h) = (grid.width(), grid.height());
+    if w == 0 || h == 0 || w.saturating_mul(h) > MAP_CAPACITY_CELLS {
+        return Err(ServiceError::MapTooLarge);
+    }
+    let cells = w * h;
+    words.clear();
+    words.resize(cells.div_ceil(32), 0);
+    for (word_index, word) in words.iter_mut().enumerate() {
+        let base = word_index * 32;
+        for bit in 0..32.min(cells - base) {
+            let i = base + bit;
+            if grid.is_blocked((i % w) as isize, (i / w) as isize) {
+                *word |= 1 << bit;
+            }
+        }
+    }
+    Ok(MapHeader {
+        map_id: meta.map_id,
+        version: meta.version,
+        width: w as u32,
+        height: h as u32,
+        resolution: meta.resolution,
+        origin: meta.origin,
+        reserved: 0,
+    })
+}
+
+/// Validates a frame's size and rebuilds its grid: `max_cells` is the receiver's own
+/// limit (at most [`MAP_CAPACITY_CELLS`]).
 pub fn grid_from_bits(
     width: u32,
     height: u32,
@@ -460,10 +452,21 @@ pub fn to_cell(xy: [i32; 2], outside: PlanError) -> Result<Cell, PlanError> {
     }
 }
 
-/// A plan response (fixed layout, travels zero-copy).
-#[derive(Debug, Clone, ZeroCopySend)]
+/// One waypoint of a response path, in cell units.
+#[derive(Debug, Clone, Copy, Default, PartialEq, ZeroCopySend, Serialize, Deserialize)]
 #[repr(C)]
-pub struct PlanResponse {
+pub struct Waypoint {
+    /// Column coordinate.
+    pub x: f32,
+    /// Row coordinate.
+    pub y: f32,
+}
+
+/// The header of a plan response (iceoryx2 user header); the path follows as a slice of
+/// [`Waypoint`]s (at most [`MAX_WAYPOINTS`], only the used ones travel).
+#[derive(Debug, Clone, Copy, Default, PartialEq, ZeroCopySend, Serialize, Deserialize)]
+#[repr(C)]
+pub struct PlanResponseHeader {
     /// The request's id.
     pub request_id: u64,
     /// Status: `0` ok, else a planner or service error code (see the module docs).
@@ -476,7 +479,7 @@ pub struct PlanResponse {
     pub map_id: u32,
     /// Map version planned on.
     pub map_version: u32,
-    /// Valid entries of `path`.
+    /// Waypoints in the slice.
     pub waypoints: u32,
     /// Path length (cell units).
     pub length: f32,
@@ -486,51 +489,35 @@ pub struct PlanResponse {
     pub evaluations: u32,
     /// Server-side planning time, microseconds.
     pub time_us: f32,
-    /// Waypoints `[x, y]` in cell units, start first.
-    pub path: [[f32; 2]; MAX_WAYPOINTS],
 }
 
-impl PlanResponse {
-    /// Writes the header of an empty response (no waypoints) for `request_id`.
-    pub fn reset(&mut self, request: &PlanRequest) {
-        self.request_id = request.request_id;
-        self.status = STATUS_OK;
-        self.algorithm = request.algorithm;
-        self.reserved = 0;
-        self.map_id = request.map_id;
-        self.map_version = request.map_version;
-        self.waypoints = 0;
-        self.length = 0.0;
-        self.turns = 0;
-        self.evaluations = 0;
-        self.time_us = 0.0;
+impl PlanResponseHeader {
+    /// The header for `result` answering `request`.
+    pub fn new(request: &PlanRequest, result: &PlanResult) -> Self {
+        let mut h = PlanResponseHeader {
+            request_id: result.request_id,
+            algorithm: request.algorithm,
+            map_id: request.map_id,
+            map_version: request.map_version,
+            time_us: result.time_us,
+            ..Default::default()
+        };
+        match &result.outcome {
+            Ok(ok) => {
+                h.status = STATUS_OK;
+                h.waypoints = ok.path.len().min(MAX_WAYPOINTS) as u32;
+                h.length = ok.length;
+                h.turns = ok.turns;
+                h.evaluations = ok.evaluations;
+            }
+            Err(f) => h.status = status_code(Err(*f)),
+        }
+        h
     }
 
-    /// A zeroed response on the heap.
-    pub fn zeroed() -> Box<Self> {
-        Box::new(PlanResponse {
-            request_id: 0,
-            status: 0,
-            algorithm: 0,
-            reserved: 0,
-            map_id: 0,
-            map_version: 0,
-            waypoints: 0,
-            length: 0.0,
-            turns: 0,
-            evaluations: 0,
-            time_us: 0.0,
-            path: [[0.0; 2]; MAX_WAYPOINTS],
-        })
-    }
-
-    /// The valid waypoints; a garbage count is clamped to the capacity.
-    pub fn path(&self) -> &[[f32; 2]] {
-        &self.path[..(self.waypoints as usize).min(MAX_WAYPOINTS)]
-    }
-
-    /// Decodes the response into an owned result, validating the status and the path.
-    pub fn to_result(&self) -> Result<PlanResult, DecodeError> {
+    /// Decodes a received header and path into an owned result, validating the status,
+    /// the count and the numbers.
+    pub fn decode(&self, path: &[Waypoint]) -> Result<PlanResult, DecodeError> {
         match decode_status(self.status) {
             None => Err(DecodeError::UnknownStatus(self.status)),
             Some(Err(f)) => Ok(PlanResult {
@@ -539,10 +526,10 @@ impl PlanResponse {
                 time_us: self.time_us,
             }),
             Some(Ok(())) => {
-                if self.waypoints as usize > MAX_WAYPOINTS {
+                if self.waypoints as usize != path.len() || path.len() > MAX_WAYPOINTS {
                     return Err(DecodeError::BadPath);
                 }
-                let path: Vec<Point> = self.path().iter().map(|p| Point::new(p[0], p[1])).collect();
+                let path: Vec<Point> = path.iter().map(|p| Point::new(p.x, p.y)).collect();
                 if !path.iter().all(|p| p.is_finite()) || !self.length.is_finite() {
                     return Err(DecodeError::BadPath);
                 }
@@ -606,27 +593,14 @@ pub struct PlanResult {
 }
 
 impl PlanResult {
-    /// Encodes into a fixed-layout response.
-    pub fn write_to(&self, out: &mut PlanResponse) {
-        out.request_id = self.request_id;
-        out.time_us = self.time_us;
-        match &self.outcome {
-            Ok(ok) => {
-                let n = ok.path.len().min(MAX_WAYPOINTS);
-                for (dst, p) in out.path.iter_mut().zip(&ok.path[..n]) {
-                    *dst = [p.x, p.y];
-                }
-                out.status = STATUS_OK;
-                out.waypoints = n as u32;
-                out.length = ok.length;
-                out.turns = ok.turns;
-                out.evaluations = ok.evaluations;
-            }
-            Err(f) => {
-                out.status = status_code(Err(*f));
-                out.waypoints = 0;
-            }
-        }
+    /// The path as wire waypoints (empty for an error).
+    pub fn waypoints(&self) -> impl Iterator<Item = Waypoint> + '_ {
+        self.outcome
+            .as_ref()
+            .map(|ok| &ok.path[..ok.path.len().min(MAX_WAYPOINTS)])
+            .unwrap_or(&[])
+            .iter()
+            .map(|p| Waypoint { x: p.x, y: p.y })
     }
 }
 
@@ -639,27 +613,24 @@ pub struct MapMsg {
     pub width: u32,
     /// Height in cells.
     pub height: u32,
-    /// `ceil(width * height / 32)` words, same packing as [`MapFrame::bits`].
+    /// `ceil(width * height / 32)` words, packed as in [`MapHeader`].
     pub bits: Vec<u32>,
 }
 
-impl From<&MapFrame> for MapMsg {
-    fn from(f: &MapFrame) -> Self {
-        let words = (f.width as usize)
-            .saturating_mul(f.height as usize)
-            .div_ceil(32)
-            .min(MAP_WORDS);
+impl MapMsg {
+    /// The serde form of a frame.
+    pub fn new(header: &MapHeader, words: &[u32]) -> Self {
         MapMsg {
-            meta: f.meta(),
-            width: f.width,
-            height: f.height,
-            bits: f.bits[..words].to_vec(),
+            meta: header.meta(),
+            width: header.width,
+            height: header.height,
+            bits: words[..header.words().min(words.len())].to_vec(),
         }
     }
 }
 
 impl MapMsg {
-    /// Validates and rebuilds the grid (see [`MapFrame::to_grid`]).
+    /// Validates and rebuilds the grid (see [`grid_from_bits`]).
     pub fn to_grid(&self, max_cells: usize) -> Result<Box<WireGrid>, ServiceError> {
         grid_from_bits(self.width, self.height, &self.bits, max_cells)
     }
@@ -736,40 +707,50 @@ mod tests {
     #[test]
     fn frame_round_trips_a_grid_and_rejects_garbage() {
         let grid = WireGrid::parse_rows(b"..@.\n@...\n...@\n").unwrap();
-        let mut frame = MapFrame::zeroed();
         let meta = MapMeta {
             map_id: 7,
             version: 3,
             resolution: 0.05,
             origin: [1.0, 2.0],
         };
-        frame.fill(meta, grid.view()).unwrap();
-        let back = frame.to_grid(MAP_CAPACITY_CELLS).unwrap();
-        assert_eq!(*back, grid);
-        let msg = MapMsg::from(&*frame);
-        assert_eq!(msg.bits.len(), 1);
+        let mut words = Vec::new();
+        let mut header = pack_map(meta, grid.view(), &mut words).unwrap();
+        assert_eq!(words.len(), 1);
+        assert_eq!(header.meta(), meta);
+        let back = grid_from_bits(header.width, header.height, &words, MAP_CAPACITY_CELLS);
+        assert_eq!(*back.unwrap(), grid);
+        let msg = MapMsg::new(&header, &words);
         let bytes = postcard::to_allocvec(&msg).unwrap();
         let msg2: MapMsg = postcard::from_bytes(&bytes).unwrap();
         assert_eq!(*msg2.to_grid(MAP_CAPACITY_CELLS).unwrap(), grid);
-        // Server-side limit, garbage sizes.
-        assert_eq!(frame.to_grid(5).unwrap_err(), ServiceError::MapTooLarge);
-        frame.width = u32::MAX;
+        // Server-side limit, garbage sizes, too few words.
+        let to_grid = |h: &MapHeader, max| grid_from_bits(h.width, h.height, &words, max);
+        assert_eq!(to_grid(&header, 5).unwrap_err(), ServiceError::MapTooLarge);
+        header.width = u32::MAX;
         assert_eq!(
-            frame.to_grid(MAP_CAPACITY_CELLS).unwrap_err(),
+            to_grid(&header, MAP_CAPACITY_CELLS).unwrap_err(),
             ServiceError::MapTooLarge
         );
-        frame.width = 0;
+        header.width = 0;
         assert_eq!(
-            frame.to_grid(MAP_CAPACITY_CELLS).unwrap_err(),
+            to_grid(&header, MAP_CAPACITY_CELLS).unwrap_err(),
             ServiceError::InvalidRequest
+        );
+        header.width = 40;
+        assert_eq!(
+            to_grid(&header, MAP_CAPACITY_CELLS).unwrap_err(),
+            ServiceError::InvalidRequest
+        );
+        let huge = planner_core::grid::Grid::<{ words_for(600, 600) }>::new(600, 600).unwrap();
+        assert_eq!(
+            pack_map(meta, huge.view(), &mut words).unwrap_err(),
+            ServiceError::MapTooLarge
         );
     }
 
     #[test]
     fn responses_decode_and_reject_garbage() {
-        let mut resp = PlanResponse::zeroed();
         let req = PlanRequest::new((1, 1), [0, 0], [1, 1], Algorithm::AStar);
-        resp.reset(&req);
         let ok = PlanResult {
             request_id: 5,
             outcome: Ok(PlanOk {
@@ -780,20 +761,29 @@ mod tests {
             }),
             time_us: 1.5,
         };
-        ok.write_to(&mut resp);
-        assert_eq!(resp.to_result().unwrap(), ok);
+        let mut header = PlanResponseHeader::new(&req, &ok);
+        let mut path: Vec<Waypoint> = ok.waypoints().collect();
+        assert_eq!(header.decode(&path).unwrap(), ok);
         let bytes = postcard::to_allocvec(&ok).unwrap();
         assert_eq!(postcard::from_bytes::<PlanResult>(&bytes).unwrap(), ok);
-        resp.waypoints = u32::MAX;
-        assert_eq!(resp.to_result().unwrap_err(), DecodeError::BadPath);
-        resp.waypoints = 2;
-        resp.path[1] = [f32::NAN, 0.0];
-        assert_eq!(resp.to_result().unwrap_err(), DecodeError::BadPath);
-        resp.status = 4242;
+        header.waypoints = 3;
+        assert_eq!(header.decode(&path).unwrap_err(), DecodeError::BadPath);
+        header.waypoints = 2;
+        path[1].x = f32::NAN;
+        assert_eq!(header.decode(&path).unwrap_err(), DecodeError::BadPath);
+        header.status = 4242;
         assert_eq!(
-            resp.to_result().unwrap_err(),
+            header.decode(&path).unwrap_err(),
             DecodeError::UnknownStatus(4242)
         );
+        let err = PlanResult {
+            request_id: 6,
+            outcome: Err(Failure::Plan(PlanError::NoValidPath)),
+            time_us: 0.5,
+        };
+        let header = PlanResponseHeader::new(&req, &err);
+        assert_eq!(err.waypoints().count(), 0);
+        assert_eq!(header.decode(&[]).unwrap(), err);
     }
 
     #[test]

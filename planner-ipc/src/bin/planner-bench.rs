@@ -22,8 +22,8 @@ use planner_ipc::client::{ClientConfig, PlannerClient, Wait};
 use planner_ipc::engine::{Engine, Scratch};
 use planner_ipc::services::Names;
 use planner_ipc::wire::{
-    Algorithm, MAP_CAPACITY_CELLS, MapFrame, MapMeta, MapMsg, PlanRequest, PlanResult, RequestKind,
-    WireGrid,
+    Algorithm, MAP_CAPACITY_CELLS, MapHeader, MapMeta, MapMsg, PlanRequest, PlanResult,
+    RequestKind, WireGrid,
 };
 use serde::{Deserialize, Serialize};
 use std::io::{ErrorKind, Read, Write};
@@ -102,18 +102,19 @@ fn run_case(w: usize, h: usize, busy: bool, iterations: usize) -> anyhow::Result
     let mode = if busy { "busy" } else { "blocking" };
     let map_name = format!("{w}x{h}");
     let grid = Box::new(WireGrid::new(w, h).map_err(anyhow::Error::msg)?);
-    let mut frame = MapFrame::zeroed();
-    frame
-        .fill(
-            MapMeta {
-                map_id: 1,
-                version: 1,
-                resolution: 0.05,
-                origin: [0.0, 0.0],
-            },
-            grid.view(),
-        )
-        .map_err(anyhow::Error::msg)?;
+    let mut words = Vec::new();
+    let header = planner_ipc::wire::pack_map(
+        MapMeta {
+            map_id: 1,
+            version: 1,
+            resolution: 0.05,
+            origin: [0.0, 0.0],
+        },
+        grid.view(),
+        &mut words,
+    )
+    .map_err(anyhow::Error::msg)?;
+    let mut frame = Frame { header, words };
     let warmup = iterations / 10 + 10;
     let updates = (iterations / 20).max(50);
     // One transport at a time: with 2 cores, a spinning idle peer would distort the other.
@@ -148,8 +149,14 @@ fn run_case(w: usize, h: usize, busy: bool, iterations: usize) -> anyhow::Result
 
 type Samples = [Vec<f64>; 4];
 
+/// A map frame as published: header and used words.
+struct Frame {
+    header: MapHeader,
+    words: Vec<u32>,
+}
+
 fn ipc_phase(
-    frame: &mut MapFrame,
+    frame: &mut Frame,
     busy: bool,
     warmup: usize,
     iterations: usize,
@@ -159,8 +166,8 @@ fn ipc_phase(
     let prefix = format!(
         "bench-{}-{}x{}-{mode}",
         std::process::id(),
-        frame.width,
-        frame.height
+        frame.header.width,
+        frame.header.height
     );
     let exe_dir = std::env::current_exe()?
         .parent()
@@ -188,8 +195,8 @@ fn ipc_phase(
         notify_server: !busy,
         ..ClientConfig::default()
     })?;
-    frame.version = 1;
-    client.publish_frame(frame)?;
+    frame.header.version = 1;
+    client.publish_map(&frame.header, &frame.words)?;
     client.wait_for_map(1, 1, Duration::from_secs(10))?;
     let request = PlanRequest::new((1, 1), [0, 0], [3, 2], Algorithm::AStar);
     let (mut rt, mut net) = (Vec::new(), Vec::new());
@@ -206,9 +213,9 @@ fn ipc_phase(
     let mut status = PlanRequest::new((1, 0), [0, 0], [0, 0], Algorithm::AStar);
     status.kind = RequestKind::MapStatus as u8;
     for version in 2..updates as u32 + 2 {
-        frame.version = version;
+        frame.header.version = version;
         let began = Instant::now();
-        client.publish_frame(frame)?;
+        client.publish_map(&frame.header, &frame.words)?;
         let published = began.elapsed().as_secs_f64() * 1e6;
         status.map_version = version;
         client.plan(&status, Duration::from_secs(5))?;
@@ -219,7 +226,7 @@ fn ipc_phase(
 }
 
 fn uds_phase(
-    frame: &mut MapFrame,
+    frame: &mut Frame,
     busy: bool,
     warmup: usize,
     iterations: usize,
@@ -229,8 +236,8 @@ fn uds_phase(
     let sock = std::env::temp_dir().join(format!(
         "planner-bench-{}-{}x{}-{mode}.sock",
         std::process::id(),
-        frame.width,
-        frame.height
+        frame.header.width,
+        frame.header.height
     ));
     let _ = std::fs::remove_file(&sock);
     let _peer = Kill(
@@ -241,10 +248,10 @@ fn uds_phase(
     let mut stream = connect(&sock)?;
     stream.set_nonblocking(busy)?;
     let mut buf = vec![0u8; 1 << 20];
-    frame.version = 1;
+    frame.header.version = 1;
     uds_call(
         &mut stream,
-        &UdsRequest::Map(MapMsg::from(&*frame)),
+        &UdsRequest::Map(MapMsg::new(&frame.header, &frame.words)),
         &mut buf,
     )?;
     let request = PlanRequest::new((1, 1), [0, 0], [3, 2], Algorithm::AStar);
@@ -264,10 +271,10 @@ fn uds_phase(
     }
     let (mut publish, mut full) = (Vec::new(), Vec::new());
     for version in 2..updates as u32 + 2 {
-        frame.version = version;
+        frame.header.version = version;
         let began = Instant::now();
         // The socket has to carry bytes: encoding the frame is part of publishing it.
-        let msg = MapMsg::from(&*frame);
+        let msg = MapMsg::new(&frame.header, &frame.words);
         uds_send(&mut stream, &UdsRequest::Map(msg), &mut buf)?;
         let published = began.elapsed().as_secs_f64() * 1e6;
         let _: UdsResponse = uds_recv(&mut stream, &mut buf)?;
