@@ -53,6 +53,12 @@ fn main() -> anyhow::Result<()> {
         let busy = args.get(2).map(String::as_str) == Some("busy");
         return uds_peer(&path, busy);
     }
+    if args.first().map(String::as_str) == Some("ipc-echo") {
+        return ipc_echo(args.get(1).context("ipc-echo PREFIX")?);
+    }
+    if args.first().map(String::as_str) == Some("raw") {
+        return raw_floor(args.get(1).map_or(Ok(20_000), |v| v.parse())?);
+    }
     let iterations = match args.iter().position(|a| a == "--iterations") {
         Some(i) => args.get(i + 1).context("--iterations N")?.parse()?,
         None => 10_000usize,
@@ -382,4 +388,68 @@ fn uds_peer(path: &Path, busy: bool) -> anyhow::Result<()> {
         };
         uds_send(&mut stream, &reply, &mut buf)?;
     }
+}
+
+/// A bare iceoryx2 echo server on the plan service (no engine): answers every request at
+/// once with an empty ok header. Measures the floor of the iceoryx2 round trip.
+fn ipc_echo(prefix: &str) -> anyhow::Result<()> {
+    use planner_ipc::services;
+    use planner_ipc::wire::PlanResponseHeader;
+    let node = services::node("planner-bench-echo")?;
+    let service =
+        services::plan_service_create(&node, &Names::new(prefix), &services::Limits::default())?;
+    let server = service
+        .server_builder()
+        .initial_max_slice_len(services::PATH_SLICE_CAPACITY)
+        .create()
+        .map_err(|e| anyhow::anyhow!("{e:?}"))?;
+    let began = Instant::now();
+    while began.elapsed() < Duration::from_secs(60) {
+        if let Some(active) = server.receive().map_err(|e| anyhow::anyhow!("{e:?}"))? {
+            let header = PlanResponseHeader {
+                request_id: active.payload().request_id,
+                ..Default::default()
+            };
+            let mut r = active
+                .loan_slice_uninit(0)
+                .map_err(|e| anyhow::anyhow!("{e:?}"))?
+                .write_from_fn(|_| unreachable!());
+            *r.user_header_mut() = header;
+            r.send().map_err(|e| anyhow::anyhow!("{e:?}"))?;
+        } else {
+            std::hint::spin_loop();
+        }
+    }
+    Ok(())
+}
+
+/// `planner-bench raw [N]`: the bare iceoryx2 round trip (busy client, echo server).
+fn raw_floor(iterations: usize) -> anyhow::Result<()> {
+    let prefix = format!("bench-raw-{}", std::process::id());
+    let _echo = Kill(
+        Command::new(std::env::current_exe()?)
+            .args(["ipc-echo", &prefix])
+            .spawn()?,
+    );
+    std::thread::sleep(Duration::from_millis(300));
+    let mut client = PlannerClient::new(ClientConfig {
+        names: Names::new(&prefix),
+        wait: Wait::Busy,
+        notify_server: false,
+        node_name: "planner-bench-raw".into(),
+        ..ClientConfig::default()
+    })?;
+    let request = PlanRequest::new((1, 1), [0, 0], [3, 2], Algorithm::AStar);
+    let mut rt = Vec::new();
+    for _ in 0..iterations {
+        let began = Instant::now();
+        client.plan_raw(&request, Duration::from_secs(5))?;
+        rt.push(began.elapsed().as_secs_f64() * 1e6);
+    }
+    println!(
+        "bare iceoryx2 round trip (echo server, busy): p50 {:.2} us, p99 {:.2} us",
+        percentile(&mut rt, 0.5),
+        percentile(&mut rt, 0.99)
+    );
+    Ok(())
 }
