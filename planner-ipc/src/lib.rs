@@ -2,7 +2,8 @@
 //!
 //! Layers, bottom up (like smoltcp):
 //! - [`wire`]: fixed-layout `#[repr(C)]` [`ZeroCopySend`](iceoryx2::prelude::ZeroCopySend)
-//!   payloads ([`wire::MapFrame`], [`wire::PlanRequest`], [`wire::PlanResponse`]), status
+//!   payloads ([`wire::MapHeader`] + map words, [`wire::PlanRequest`],
+//!   [`wire::PlanResponseHeader`] + [`wire::Waypoint`]s), status
 //!   codes, typed errors, validation, and serde mirrors for byte streams (postcard);
 //! - [`jsonl`]: the JSON-lines result format shared with `host-sim plan`;
 //! - [`engine`]: the transport-free map store and planner dispatch;

@@ -10,7 +10,7 @@
 //!   peer process (this binary, `uds-peer`) running the same engine; both report the
 //!   server-side planning time, so the transport share is printed too;
 //! - publishing a map update: the sender's cost of handing a whole map over (iceoryx2:
-//!   loan + write + send of a `MapFrame`; socket: postcard encoding + write), and the full
+//!   loan + write + send of a map frame (header + used words); socket: postcard encoding + write), and the full
 //!   update until the server confirms it holds the new version.
 //!
 //! Socket framing: a little-endian `u32` length, then the postcard bytes of a
