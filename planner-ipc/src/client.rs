@@ -181,6 +181,7 @@ pub struct PlannerClient {
     wake: Option<OwnWake>,
     next_id: u64,
     versions: HashMap<u32, u32>,
+    last_server_time_us: Option<f32>,
 }
 
 impl PlannerClient {
@@ -215,6 +216,7 @@ impl PlannerClient {
             wake,
             next_id: 1,
             versions: HashMap::new(),
+            last_server_time_us: None,
         })
     }
 
@@ -354,6 +356,11 @@ impl PlannerClient {
         Ok(response)
     }
 
+    /// The server-side time (µs) of the last answered request, also when it was an error.
+    pub fn last_server_time_us(&self) -> Option<f32> {
+        self.last_server_time_us
+    }
+
     /// Like [`plan`](Self::plan), also returning the server-side planning time (µs).
     pub fn plan_raw(
         &mut self,
@@ -361,6 +368,7 @@ impl PlannerClient {
         timeout: Duration,
     ) -> Result<(PlanOk, f32), ClientError> {
         let began = Instant::now();
+        self.last_server_time_us = None;
         // A server that (re)started since the last call gets the current maps first.
         if let Some(map) = &self.map {
             let _ = map.publisher.update_connections();
@@ -396,6 +404,7 @@ impl PlannerClient {
                 let result = header
                     .decode(response.payload())
                     .map_err(ClientError::BadResponse)?;
+                self.last_server_time_us = Some(result.time_us);
                 return match result.outcome {
                     Ok(ok) => Ok((ok, result.time_us)),
                     Err(f) => Err(f.into()),

@@ -11,19 +11,21 @@ use std::time::{Duration, Instant};
 
 const T: Duration = Duration::from_secs(5);
 
-/// A server killed and restarted: the client (not restarted) first gets a timeout, then
+/// A late server gets the current map; a server killed and restarted: the client (not restarted) first gets a timeout, then
 /// success once the new server is up; the new server got the map from the client's
 /// publisher history.
 #[test]
 fn server_killed_and_restarted() {
     let p = prefix("restart");
-    let mut server = start_server(&p, &[]);
+    // The map is published before any server exists: the server is a late subscriber.
     let mut c = client(&p);
     let v = c
         .upload_map_file(&data("warehouse-10-20-10-2-1.map"), 1)
         .unwrap();
-    c.wait_for_map(1, v, T).unwrap();
     let good = PlanRequest::new((1, v), [143, 57], [10, 16], Algorithm::AStar);
+    assert_eq!(c.plan(&good, T), Err(ClientError::NoServer));
+    let mut server = start_server(&p, &[]);
+    c.wait_for_map(1, v, T).unwrap();
     let first = c.plan(&good, T).unwrap();
 
     server.kill();

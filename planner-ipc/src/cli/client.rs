@@ -199,7 +199,8 @@ pub fn main() -> anyhow::Result<()> {
                                 start,
                                 goal,
                                 Err(e.name()),
-                                round_trip,
+                                // The server's time when it answered, else the round trip.
+                                client.last_server_time_us().map_or(round_trip, f64::from),
                                 &algo,
                                 seed,
                             ),
