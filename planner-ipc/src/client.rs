@@ -71,7 +71,7 @@ impl Default for ClientConfig {
             names: Names::new("planner"),
             limits: Limits::default(),
             wait: Wait::Blocking {
-                spin: Duration::from_micros(20),
+                spin: Duration::from_micros(50),
             },
             node_name: "planner-client".into(),
             notify_server: true,
@@ -380,6 +380,17 @@ impl PlannerClient {
         let wait = self.config.wait;
         let notify = self.config.notify_server;
         let ports = self.plan_ports()?;
+        let deadline = began + timeout;
+        // Wall clock first, then the monotonic one: the client polls at least until the
+        // wall-clock time it announces, so an answer sent before it needs no wake-up.
+        let wall = crate::wire::unix_ns();
+        let spin_until = match wait {
+            Wait::Busy => deadline,
+            Wait::Blocking { spin } => {
+                request.polls_until_ns = wall.saturating_add(spin.as_nanos() as u64);
+                Instant::now() + spin
+            }
+        };
         let pending = ports.client.send_copy(request).map_err(ipc)?;
         if pending.number_of_server_connections() == 0 {
             return Err(ClientError::NoServer);
@@ -387,11 +398,6 @@ impl PlannerClient {
         if notify {
             let _ = ports.wake_server.notify();
         }
-        let deadline = began + timeout;
-        let spin_until = match wait {
-            Wait::Busy => deadline,
-            Wait::Blocking { spin } => began + spin,
-        };
         loop {
             if let Some(response) = pending.receive().map_err(ipc)? {
                 let header = response.user_header();
@@ -418,7 +424,8 @@ impl PlannerClient {
             if now < spin_until {
                 std::hint::spin_loop();
             } else if let Some(w) = &self.wake {
-                let left = (deadline - now).min(Duration::from_millis(100));
+                // Capped, so that even a missed wake-up costs at most 10 ms.
+                let left = (deadline - now).min(Duration::from_millis(10));
                 w.listener.timed_wait(|_| {}, left).map_err(ipc)?;
             } else {
                 std::hint::spin_loop();

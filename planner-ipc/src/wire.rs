@@ -397,6 +397,10 @@ pub struct PlanRequest {
     pub deadline_us: u64,
     /// Token of the client's wake-up event service (`0`: the client polls, do not notify).
     pub wake_token: u64,
+    /// Wall-clock time (ns since the Unix epoch) until which the client polls for the
+    /// answer before it sleeps on its wake event: an answer sent clearly before needs no
+    /// wake-up syscall. `0`: always notify.
+    pub polls_until_ns: u64,
     /// Map id.
     pub map_id: u32,
     /// Map version the client planned against.
@@ -423,6 +427,7 @@ impl PlanRequest {
             seed: 0,
             deadline_us: 0,
             wake_token: 0,
+            polls_until_ns: 0,
             map_id: map.0,
             map_version: map.1,
             start,
@@ -634,6 +639,13 @@ impl MapMsg {
     pub fn to_grid(&self, max_cells: usize) -> Result<Box<WireGrid>, ServiceError> {
         grid_from_bits(self.width, self.height, &self.bits, max_cells)
     }
+}
+
+/// Wall-clock nanoseconds since the Unix epoch (the clock both processes share).
+pub fn unix_ns() -> u64 {
+    std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.as_nanos() as u64)
 }
 
 #[cfg(test)]

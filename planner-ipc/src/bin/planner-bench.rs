@@ -192,9 +192,8 @@ fn ipc_phase(
         wait: if busy {
             Wait::Busy
         } else {
-            Wait::Blocking {
-                spin: Duration::from_micros(20),
-            }
+            // The library default: spin 50 us, then sleep on the wake event.
+            ClientConfig::default().wait
         },
         node_name: "planner-bench".into(),
         // A busy server polls its ports: no wake-up syscall needed.

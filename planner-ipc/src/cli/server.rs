@@ -46,6 +46,11 @@ struct Args {
     /// Clients (and map publishers) at once.
     #[arg(long, default_value_t = 64)]
     max_clients: usize,
+    /// Blocking mode: how long to keep polling after the last request before sleeping
+    /// on the wake event, microseconds (longer than a client's wake-up latency keeps a
+    /// loaded server from falling asleep between back-to-back requests).
+    #[arg(long, default_value_t = 200)]
+    spin_us: u64,
 }
 
 /// The binary's entry point (also linked into test binaries).
@@ -70,6 +75,7 @@ pub fn main() -> anyhow::Result<()> {
             Mode::Blocking => WaitMode::Blocking,
             Mode::Busy => WaitMode::Busy,
         },
+        spin: std::time::Duration::from_micros(args.spin_us),
         ..ServerConfig::default()
     };
     server::run(&config, &shutdown)
