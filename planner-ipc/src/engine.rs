@@ -9,9 +9,9 @@ use crate::wire::{
 use planner_core::PlanError;
 use planner_core::optim::any::AlgorithmKind;
 use planner_core::path::{Path, PathView};
+use planner_core::planner::PlanParams;
 use planner_core::planner::aco::AcoParams;
 use planner_core::planner::owned::HostPlanner;
-use planner_core::planner::PlanParams;
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex, RwLock};
 use std::time::Instant;
@@ -270,7 +270,11 @@ fn run_planner(
     let start = to_cell(req.start, PlanError::StartOutsideMap)?;
     let goal = to_cell(req.goal, PlanError::GoalOutsideMap)?;
     let grid = prepared.grid.view();
-    if !scratch.prepared_for.as_ref().is_some_and(|p| Arc::ptr_eq(p, prepared)) {
+    if !scratch
+        .prepared_for
+        .as_ref()
+        .is_some_and(|p| Arc::ptr_eq(p, prepared))
+    {
         scratch.planner.prepare(grid)?;
         scratch.prepared_for = Some(prepared.clone());
     }
@@ -286,13 +290,26 @@ fn run_planner(
     };
     let aco = AcoParams {
         ants: count(req.params.population, AcoParams::default().ants),
-        iterations: count(req.params.iterations, AcoParams::default().iterations as usize) as u32,
+        iterations: count(
+            req.params.iterations,
+            AcoParams::default().iterations as usize,
+        ) as u32,
         stagnation: params.stagnation,
         seed: req.seed,
         ..AcoParams::default()
     };
     let out: &mut PathView = &mut *scratch.path;
-    let outcome = scratch.planner.plan(grid, algorithm.kind(), start, goal, &params, &aco, out, &mut [], cancelled)?;
+    let outcome = scratch.planner.plan(
+        grid,
+        algorithm.kind(),
+        start,
+        goal,
+        &params,
+        &aco,
+        out,
+        &mut [],
+        cancelled,
+    )?;
     Ok(PlanOk {
         path: out.to_vec(),
         length: outcome.length,

@@ -33,6 +33,31 @@ fn typed_errors_while_the_server_keeps_serving() {
     let ok = c.plan(&good, T).unwrap();
     assert!((ok.length - 157.0114).abs() < 1e-3, "{}", ok.length);
     assert_eq!(ok.path.len(), 4);
+    // Every planner of planner-core is served; the swarm planners are deterministic per seed.
+    for algo in Algorithm::ALL {
+        let mut r = req((1, v1), [143, 57], [10, 16], algo);
+        r.params.iterations = 40.0;
+        r.seed = 7;
+        let a = c
+            .plan(&r, T)
+            .unwrap_or_else(|e| panic!("{}: {e}", algo.name()));
+        assert!(
+            a.length < 160.53 * 1.2 && a.length > 140.0,
+            "{}: {}",
+            algo.name(),
+            a.length
+        );
+        assert_eq!(a.path.first().map(|p| (p.x, p.y)), Some((143.0, 57.0)));
+        assert_eq!(a.path.last().map(|p| (p.x, p.y)), Some((10.0, 16.0)));
+        if algo.kind().is_stochastic() {
+            assert_eq!(
+                c.plan(&r, T).unwrap(),
+                a,
+                "{} is not deterministic",
+                algo.name()
+            );
+        }
+    }
     let still_serving = |c: &mut planner_ipc::client::PlannerClient, map: (u32, u32)| {
         let mut r = good;
         r.map_id = map.0;
@@ -216,7 +241,7 @@ fn cli_prints_host_sim_json_lines() {
     let out = Command::new(env!("CARGO_BIN_EXE_ipc-test-client"))
         .args(["--prefix", &p, "plan", "--map"])
         .arg(&map)
-        .args(["--algo", "tclhho", "--start", "143,57", "--goal", "10,16"])
+        .args(["--algo", "dijkstra", "--start", "143,57", "--goal", "10,16"])
         .output()
         .unwrap();
     let line: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();

@@ -337,7 +337,14 @@ pub fn outcome_json(kind: PlannerKind, seed: u64, query: Query, outcome: &Outcom
         }),
         Err(e) => Err(e.name()),
     };
-    jsonl::plan_line(query.start, query.goal, result, outcome.time_us, kind.name(), seed)
+    jsonl::plan_line(
+        query.start,
+        query.goal,
+        result,
+        outcome.time_us,
+        kind.name(),
+        seed,
+    )
 }
 
 /// Runs `host-sim plan`.

@@ -186,7 +186,7 @@ pub fn main() -> anyhow::Result<()> {
                                         length: ok.length,
                                         turns: ok.turns as usize,
                                         expanded: Some(ok.evaluations),
-                            report: None,
+                                        report: None,
                                     }),
                                     time_us as f64,
                                     &algo,
