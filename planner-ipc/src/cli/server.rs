@@ -55,9 +55,18 @@ struct Args {
 
 /// The binary's entry point (also linked into test binaries).
 pub fn main() -> anyhow::Result<()> {
-    env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("info")).init();
+    serve(Args::parse())
+}
+
+/// Serves with the default settings under `prefix` until SIGINT or SIGTERM: how other
+/// programs (the simulator's `host-sim serve`) embed the server without a separate binary.
+pub fn serve_prefix(prefix: &str) -> anyhow::Result<()> {
+    serve(Args::parse_from(["planner-server", "--prefix", prefix]))
+}
+
+fn serve(args: Args) -> anyhow::Result<()> {
+    let _ = env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("info")).try_init();
     crate::services::quiet_iceoryx_logs();
-    let args = Args::parse();
     let shutdown = Arc::new(AtomicBool::new(false));
     for signal in [signal_hook::consts::SIGINT, signal_hook::consts::SIGTERM] {
         signal_hook::flag::register(signal, shutdown.clone())?;
