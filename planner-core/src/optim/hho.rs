@@ -6,7 +6,17 @@
 //! replaces the hawk unless it improves). Differences from `HHO.m`, all asked by SPEC: every
 //! new position is clamped and evaluated at once (so the rabbit follows every improving
 //! evaluation and the final moves are not lost), and the hawk's cost is cached instead of being
-//! re-evaluated in the dive comparisons.
+//! re-evaluated in the dive comparisons. `Z` is built from the unclamped `Y`, as in `HHO.m`.
+//! The Levy factor defaults to the paper's 0.01 (eq. 9, SPEC); `HHO.m`'s `Levy` has none
+//! (factor 1, [`HhoParams::levy_scale`]): on the shifted 30-D sphere the two give the same
+//! median.
+//!
+//! mealpy's `OriginalHHO` is not `HHO.m`: it takes `X_m` as the mean of *all* coordinates of
+//! all hawks (a scalar, `np.mean` without an axis), updates synchronously with a greedy
+//! selection of the whole population, and scales the Levy dive by `S ~ U(lb, ub)`. Its better
+//! median on the sphere shifted to `(37.5, ..., 37.5)` comes from the scalar mean, which
+//! exploits an optimum whose coordinates are all equal (it does not help when they differ);
+//! see `host-sim/bench/mealpy_vs_ours.sh`.
 //!
 //! TCLHHO is HHO with [`HhoParams::tclhho`]: Tent initialisation, exponential escape energy
 //! (`a = 1.2`), and the Cauchy / opposition mutation of the rabbit once per iteration.
