@@ -247,8 +247,8 @@ fn float_strips(
         } else {
             // Clamped to the segment: a strip reached only through TOUCH_EPS is touched near
             // an end point, and extrapolating the line there would run away when du is tiny.
-            let ul = (s as f32 - 0.5).clamp(u0, u1);
-            let ur = (s as f32 + 0.5).clamp(u0, u1);
+            let ul = between(s as f32 - 0.5, u0, u1);
+            let ur = between(s as f32 + 0.5, u0, u1);
             // Multiply before dividing: exact whenever the true value is representable,
             // which keeps corner touches exact.
             let vl = v0 + (ul - u0) * dv / du;
@@ -262,6 +262,19 @@ fn float_strips(
         }
     }
     true
+}
+
+/// `x.clamp(lo, hi)` for `lo <= hi` without `clamp`'s assertion, whose message formats
+/// floats (14 KiB of flash on Cortex-M). Same value as `clamp` for every non-NaN `x`.
+#[inline]
+fn between(x: f32, lo: f32, hi: f32) -> f32 {
+    if x < lo {
+        lo
+    } else if x > hi {
+        hi
+    } else {
+        x
+    }
 }
 
 /// `(min, max)` of two finite values by one comparison. `f32::min`/`max` are a libm call on
