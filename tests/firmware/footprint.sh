@@ -31,10 +31,24 @@ echo "| figure | value | budget | |"
 echo "|---|---|---|---|"
 echo "| flash (.vector_table+.text+.rodata+.data) | $flash B ($(kib $flash)) | $(kib $FLASH_BUDGET) | $(check f $flash $FLASH_BUDGET) |"
 echo "| static RAM (.data $data + .bss $bss) | $sram B ($(kib $sram)) | | |"
+symsize() { printf '%d' "0x$(arm-none-eabi-nm -S -C "$elf" | awk -v s="$1" '$4 == s { print $2 }')"; }
+nodes=$(symsize planner_firmware::NODES); storage=$(symsize planner_firmware::STORAGE)
+echo "| - A* nodes (static NODES, 64x64 x 24 B) | $nodes B ($(kib $nodes)) | | |"
+echo "| - map, paths, stations, TCLHHO + IGWO state (static STORAGE) | $storage B ($(kib $storage)) | | |"
 echo "| peak stack (painting) | $stack B ($(kib $stack)) | | |"
 echo "| static RAM + stack | $ram B ($(kib $ram)) | $(kib $RAM_BUDGET) | $(check r $ram $RAM_BUDGET) |"
-[ "$flash" -le "$FLASH_BUDGET" ] || status=1
-[ "$ram" -le "$RAM_BUDGET" ] || status=1
+# FOOTPRINT_WAIVE="ram" (or "flash", "ram flash") reports an exceeded budget as WAIVED
+# instead of failing; CI does not set it.
+waive="${FOOTPRINT_WAIVE:-}"
+over() { # name
+    if [[ " $waive " == *" $1 "* ]]; then
+        echo "WAIVED: the $1 budget is exceeded (FOOTPRINT_WAIVE)" >&2
+    else
+        status=1
+    fi
+}
+[ "$flash" -le "$FLASH_BUDGET" ] || over flash
+[ "$ram" -le "$RAM_BUDGET" ] || over ram
 echo
 echo "| plan | instructions (VSQRT) | instructions (soft sqrt) | evaluations | length (milli-cells) |"
 echo "|---|---|---|---|---|"
