@@ -148,7 +148,8 @@ mod tests {
             path: &path,
             length: 2.5,
             turns: 0,
-            expanded: 3,
+            expanded: Some(3),
+            report: None,
         };
         let line = plan_line((0, 0), (1, 2), Ok(ok), 12.34, "theta", 7);
         assert_eq!(

@@ -65,7 +65,8 @@ pub fn serve_prefix(prefix: &str) -> anyhow::Result<()> {
 }
 
 fn serve(args: Args) -> anyhow::Result<()> {
-    let _ = env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("info")).try_init();
+    let _ = env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("info"))
+        .try_init();
     crate::services::quiet_iceoryx_logs();
     let shutdown = Arc::new(AtomicBool::new(false));
     for signal in [signal_hook::consts::SIGINT, signal_hook::consts::SIGTERM] {
