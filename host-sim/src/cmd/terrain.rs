@@ -628,6 +628,8 @@ fn oe(e: planner_core::optim::OptimError) -> anyhow::Error {
     anyhow::anyhow!("optimizer: {e}")
 }
 
+// Boxed by the callers: a population of 100 x D floats is too big to pass by value.
+#[allow(clippy::boxed_local)]
 fn drive<O: Optimizer>(
     mut opt: Box<O>,
     objective: &TerrainObjective<'_>,

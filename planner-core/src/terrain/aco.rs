@@ -144,6 +144,8 @@ impl<const PLANES: usize, const NODES: usize> Aco<PLANES, NODES> {
 
     /// Runs the colony on `objective` (terrain height mode only), writing the best cost after
     /// each iteration into `history` while it has room.
+    // Index loops mirror the pheromone matrix's (plane, level) layout.
+    #[allow(clippy::needless_range_loop)]
     pub fn run(
         &mut self,
         objective: &TerrainObjective<'_>,

@@ -109,7 +109,7 @@ impl Obstacle {
         let (wx, wy) = (self.x - a.0, self.y - a.1);
         let len2 = ux * ux + uy * uy;
         let t = if len2 > 0.0 {
-            ((wx * ux + wy * uy) / len2).max(0.0).min(1.0)
+            ((wx * ux + wy * uy) / len2).clamp(0.0, 1.0)
         } else {
             0.0
         };

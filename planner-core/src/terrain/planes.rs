@@ -62,7 +62,8 @@ impl PlaneEncoding {
         }
         let (dx, dy) = (goal.0 - start.0, goal.1 - start.1);
         let len = crate::math::sqrt(dx * dx + dy * dy);
-        if !(len > 0.0) {
+        // NaN counts as zero here: `len > 0.0` is false for both.
+        if len.is_nan() || len <= 0.0 {
             return Err(TerrainError::InvalidParameter("start equals goal"));
         }
         let normal = (-dy / len, dx / len);
