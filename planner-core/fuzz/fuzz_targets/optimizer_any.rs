@@ -43,17 +43,14 @@ fn check_inside(bounds: &Bounds<D>, x: &[f32]) {
 
 fuzz_target!(|input: Input| {
     let kind = AlgorithmKind::ALL[input.algorithm as usize % AlgorithmKind::ALL.len()];
-    let dim = input.dim.get(D + 1);
+    let dim = input.dim.get(D + 1).min(D);
     let mut lower = [0.0f32; D];
     let mut upper = [0.0f32; D];
     for i in 0..D {
         lower[i] = input.lower[i].get() - 8.0;
         upper[i] = lower[i] + input.width[i].get();
     }
-    let Ok(bounds) = Bounds::<D>::from_slices(
-        &lower[..dim.min(D)],
-        &upper[..dim.min(D)],
-    ) else {
+    let Ok(bounds) = Bounds::<D>::from_slices(&lower[..dim], &upper[..dim]) else {
         return;
     };
     assert!(dim >= 1 && dim <= D);
