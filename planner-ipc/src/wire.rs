@@ -723,14 +723,22 @@ mod tests {
             assert_eq!(Algorithm::from_code(a.code()), Ok(a));
             assert_eq!(Algorithm::from_name(a.name()), Ok(a));
         }
-        for bad in [0u8, 3, 99, 255] {
+        for bad in [0u8, 13, 99, 255] {
             assert_eq!(
                 Algorithm::from_code(bad),
                 Err(ServiceError::UnknownAlgorithm)
             );
         }
+        // Every planner of planner-core is served, under the same names as `host-sim plan`.
+        assert_eq!(Algorithm::ALL.len(), PlannerKind::ALL.len());
+        for kind in PlannerKind::ALL {
+            assert_eq!(
+                Algorithm::from_name(kind.name()).map(Algorithm::kind),
+                Ok(kind)
+            );
+        }
         assert_eq!(
-            Algorithm::from_name("tclhho"),
+            Algorithm::from_name("dijkstra"),
             Err(ServiceError::UnknownAlgorithm)
         );
     }
