@@ -10,6 +10,7 @@
 //! - [`path`]: fixed-capacity paths and their metrics;
 //! - [`search`]: exact reference planners (A*, Theta*) and connectivity labelling;
 //! - [`optim`]: the swarm optimizers of the papers (HHO, TCLHHO, GWO, IGWO, SSA, ...).
+//! - [`dwa`]: the Dynamic Window Approach local planner (seed 004).
 #![no_std]
 #![deny(unsafe_code)]
 #![warn(missing_docs)]
@@ -17,6 +18,7 @@
 #[cfg(test)]
 extern crate std;
 
+pub mod dwa;
 pub mod error;
 pub mod geometry;
 pub mod grid;
