@@ -11,9 +11,9 @@
 use clap::{Parser, Subcommand};
 
 mod cmd;
-mod maps;
-mod render;
-mod validate;
+
+// The library's modules, bound at the crate root so `crate::maps` etc. resolve in `cmd`.
+use host_sim::{maps, render, validate};
 
 #[derive(Parser)]
 #[command(
