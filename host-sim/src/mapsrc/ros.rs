@@ -184,7 +184,8 @@ pub fn parse_yaml(text: &str, dir: &Path) -> Result<RosMeta, RosMapError> {
     if !(occ.is_finite()
         && free.is_finite()
         && (0.0..=1.0).contains(&occ)
-        && (0.0..=1.0).contains(&free))
+        && (0.0..=1.0).contains(&free)
+        && free < occ)
     {
         return Err(RosMapError::BadThresholds);
     }
