@@ -286,6 +286,7 @@ fn run_planner(
         iterations: count(req.params.iterations, defaults.iterations as usize) as u32,
         stagnation: (stagnation > 0).then_some(stagnation),
         seed: req.seed,
+        guide: req.params.guide().ok_or(PlanError::InvalidParameters)?,
         ..defaults
     };
     let aco = AcoParams {

@@ -409,11 +409,28 @@ pub struct PlanParams {
     /// Iterations (swarm planners).
     pub iterations: f32,
     /// Planner-specific extras: `extra[0]` = stagnation window in iterations (0: run to
-    /// the horizon); the rest reserved, zero.
+    /// the horizon); `extra[1]` = the swarm planners' guide route (0: the visibility graph's
+    /// shortest route, 1: A*, 2: Theta*; see `planner_core::planner::GuideKind`); the rest
+    /// reserved, zero.
     pub extra: [f32; 5],
 }
 
 impl PlanParams {
+    /// The guide route that `extra[1]` names, if it names one.
+    pub fn guide(&self) -> Option<planner_core::planner::GuideKind> {
+        Self::guide_of(self.extra[1])
+    }
+
+    fn guide_of(code: f32) -> Option<planner_core::planner::GuideKind> {
+        use planner_core::planner::GuideKind;
+        match code {
+            0.0 => Some(GuideKind::Visibility),
+            1.0 => Some(GuideKind::AStar),
+            2.0 => Some(GuideKind::Theta),
+            _ => None,
+        }
+    }
+
     /// Checks every field: finite, not negative; counts integral and below 2^24.
     pub fn validate(&self) -> Result<(), PlanError> {
         let all = [self.radius, self.population, self.iterations];
@@ -424,6 +441,7 @@ impl PlanParams {
             && [self.population, self.iterations, self.extra[0]]
                 .iter()
                 .all(|v| v.fract() == 0.0 && *v < 16_777_216.0)
+            && Self::guide_of(self.extra[1]).is_some()
             && self.radius <= MAP_CAPACITY_SIDE as f32;
         if ok {
             Ok(())
@@ -767,10 +785,30 @@ mod tests {
                 extra: [0.0, 0.0, f32::NAN, 0.0, 0.0],
                 ..Default::default()
             },
+            // No such guide route.
+            PlanParams {
+                extra: [0.0, 3.0, 0.0, 0.0, 0.0],
+                ..Default::default()
+            },
+            PlanParams {
+                extra: [0.0, 0.5, 0.0, 0.0, 0.0],
+                ..Default::default()
+            },
         ];
         for p in bad {
             assert_eq!(p.validate(), Err(PlanError::InvalidParameters), "{p:?}");
         }
+        use planner_core::planner::GuideKind;
+        let guide = |code: f32| {
+            PlanParams {
+                extra: [0.0, code, 0.0, 0.0, 0.0],
+                ..Default::default()
+            }
+            .guide()
+        };
+        assert_eq!(guide(0.0), Some(GuideKind::Visibility));
+        assert_eq!(guide(1.0), Some(GuideKind::AStar));
+        assert_eq!(guide(2.0), Some(GuideKind::Theta));
     }
 
     #[test]

@@ -11,6 +11,7 @@ use anyhow::{Context, anyhow, bail};
 use planner_core::optim::any::{AlgorithmKind, AnyOptimizer};
 use planner_core::optim::functions::{Benchmark, FunctionKind};
 use planner_core::optim::gwo::{Gwo, GwoParams};
+use planner_core::optim::hho::{HawkMean, Hho, HhoParams};
 use planner_core::optim::{Optimizer, Settings, Stop};
 use serde::Serialize;
 
@@ -60,6 +61,11 @@ pub struct OptimizeArgs {
     /// variant; SPEC's GWO has no greedy selection).
     #[arg(long)]
     pub greedy: bool,
+    /// HHO family only: take the hawks' mean `X_m` as one scalar over every coordinate
+    /// (mealpy's OriginalHHO reading, for like-for-like comparisons; SPEC and HHO.m take it
+    /// per dimension).
+    #[arg(long)]
+    pub scalar_mean: bool,
 }
 
 #[derive(Serialize)]
@@ -99,6 +105,7 @@ struct Output {
     optimum: f32,
     algo: &'static str,
     greedy: bool,
+    scalar_mean: bool,
     pop: usize,
     iters: u32,
     seed: u64,
@@ -195,7 +202,25 @@ fn execute(args: &OptimizeArgs) -> anyhow::Result<Output> {
             iterations: args.iters,
             seed,
         };
-        let built = if args.greedy {
+        let built = if args.scalar_mean {
+            let base = match algo {
+                AlgorithmKind::Hho => HhoParams::hho(),
+                AlgorithmKind::Tclhho => HhoParams::tclhho(),
+                _ => bail!("--scalar-mean applies to hho and tclhho only"),
+            };
+            if args.greedy {
+                bail!("--greedy and --scalar-mean do not combine");
+            }
+            Hho::new(
+                settings,
+                &bounds,
+                HhoParams {
+                    mean: HawkMean::Scalar,
+                    ..base
+                },
+            )
+            .map(AnyOptimizer::Hho)
+        } else if args.greedy {
             let base = match algo {
                 AlgorithmKind::Gwo => GwoParams::gwo(),
                 AlgorithmKind::Tgwo => GwoParams::tgwo(),
@@ -247,6 +272,7 @@ fn execute(args: &OptimizeArgs) -> anyhow::Result<Output> {
         optimum: kind.optimum(),
         algo: algo.name(),
         greedy: args.greedy,
+        scalar_mean: args.scalar_mean,
         pop: args.pop,
         iters: args.iters,
         seed: args.seed,

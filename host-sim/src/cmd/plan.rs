@@ -22,7 +22,7 @@ use planner_core::optim::any::AlgorithmKind;
 use planner_core::path::{Path, PathView};
 use planner_core::planner::aco::AcoParams;
 use planner_core::planner::owned::HostPlanner;
-use planner_core::planner::{EncodingKind, InitKind, PlanParams, PlannerKind};
+use planner_core::planner::{EncodingKind, GuideKind, InitKind, PlanParams, PlannerKind};
 use planner_ipc::jsonl;
 use serde_json::{Value, json};
 use std::io::{BufWriter, Write};
@@ -94,9 +94,34 @@ pub struct SwarmArgs {
     /// Corridor encoding: lateral reach of a waypoint.
     #[arg(long)]
     pub corridor_radius: Option<f32>,
+    /// Corridor encoding: the route the stations sit on.
+    #[arg(long, value_enum, default_value_t = GuideArg::Visibility)]
+    pub guide: GuideArg,
     /// Walk encoding: maximum steps.
     #[arg(long)]
     pub walk_steps: Option<usize>,
+}
+
+/// `--guide` values.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum GuideArg {
+    /// The octile A* route.
+    Astar,
+    /// The Theta* route (any-angle costs choose the way around obstacles).
+    Theta,
+    /// The shortest any-angle route of the map's visibility graph (built once per map).
+    Visibility,
+}
+
+impl GuideArg {
+    /// The planner-core value.
+    pub fn kind(self) -> GuideKind {
+        match self {
+            GuideArg::Astar => GuideKind::AStar,
+            GuideArg::Theta => GuideKind::Theta,
+            GuideArg::Visibility => GuideKind::Visibility,
+        }
+    }
 }
 
 /// `--encoding` values.
@@ -153,6 +178,7 @@ impl SwarmArgs {
             prune: !self.no_prune,
             corridor_spacing: self.corridor_spacing.unwrap_or(base.corridor_spacing),
             corridor_radius: self.corridor_radius.unwrap_or(base.corridor_radius),
+            guide: self.guide.kind(),
             walk_steps: self.walk_steps.unwrap_or(base.walk_steps),
             ..base
         };

@@ -79,6 +79,22 @@ pub struct HhoParams {
     pub opposition: OppositionForm,
     /// Factor on the Mantegna Levy step (the paper's 0.01).
     pub levy_scale: f32,
+    /// How the hawks' mean position `X_m` is taken.
+    pub mean: HawkMean,
+}
+
+/// The hawks' mean position `X_m` of the exploration and the hard-besiege dives.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub enum HawkMean {
+    /// Per dimension, as `HHO.m` and the paper (`mean(X)` over hawks): SPEC's reading.
+    #[default]
+    PerDimension,
+    /// One scalar, the mean of every coordinate of every hawk, used in every dimension
+    /// (mealpy's `np.mean(pop)` without an axis). Only for like-for-like comparisons with
+    /// mealpy: it pools all coordinates, which helps only when the optimum's coordinates are
+    /// all equal (a sphere shifted along the diagonal).
+    Scalar,
 }
 
 impl HhoParams {
@@ -90,6 +106,7 @@ impl HhoParams {
             mutation: Mutation::Off,
             opposition: OppositionForm::Interpolated,
             levy_scale: 0.01,
+            mean: HawkMean::PerDimension,
         }
     }
 
@@ -101,6 +118,7 @@ impl HhoParams {
             mutation: Mutation::AfterUpdates,
             opposition: OppositionForm::Interpolated,
             levy_scale: 0.01,
+            mean: HawkMean::PerDimension,
         }
     }
 
@@ -113,6 +131,7 @@ impl HhoParams {
             mutation: Mutation::ReplacesExploration,
             opposition: OppositionForm::Literal,
             levy_scale: 0.01,
+            mean: HawkMean::PerDimension,
         }
     }
 
@@ -250,6 +269,18 @@ impl<const N: usize, const D: usize> Hho<N, D> {
         self.swarm.clamp_and_evaluate(objective, z)
     }
 
+    /// `X_m` as one number ([`HawkMean::Scalar`]), or `None` for the per-dimension mean.
+    fn scalar_mean(&self) -> Option<f32> {
+        match self.params.mean {
+            HawkMean::PerDimension => None,
+            HawkMean::Scalar => {
+                let dim = self.swarm.dim();
+                let total: f32 = self.sum.iter().take(dim).sum();
+                Some(total / (self.swarm.n() * dim.max(1)) as f32)
+            }
+        }
+    }
+
     /// `|E| >= 1`: perch on a random hawk or relative to the rabbit and the mean.
     fn explore(&mut self, i: usize) {
         let n = self.swarm.n();
@@ -271,6 +302,8 @@ impl<const N: usize, const D: usize> Hho<N, D> {
         } else {
             let r3 = sw.rng.unit();
             let r4 = sw.rng.unit();
+            let scalar_mean = self.scalar_mean();
+            let sw = &mut self.swarm;
             let rabbit = sw.tracker.best();
             for ((((y, rb), s), l), u) in self
                 .y
@@ -280,7 +313,11 @@ impl<const N: usize, const D: usize> Hho<N, D> {
                 .zip(sw.bounds.lower())
                 .zip(sw.bounds.upper())
             {
-                *y = (rb - s * inv_n) - r3 * (l + r4 * (u - l));
+                let m = match scalar_mean {
+                    Some(m) => m,
+                    None => s * inv_n,
+                };
+                *y = (rb - m) - r3 * (l + r4 * (u - l));
             }
         }
     }
@@ -288,12 +325,16 @@ impl<const N: usize, const D: usize> Hho<N, D> {
     /// The dive target `rabbit - E |J rabbit - base|` into `self.y`, `base` = hawk or mean.
     fn dive_target(&mut self, i: usize, e: f32, j: f32, from_mean: bool) {
         let inv_n = 1.0 / self.swarm.n() as f32;
+        let scalar_mean = self.scalar_mean();
         let sw = &self.swarm;
         let rabbit = sw.tracker.best();
         let x = sw.pop.position(i);
         for (d, (y, rb)) in self.y.iter_mut().zip(rabbit).enumerate() {
             let base = if from_mean {
-                self.sum.get(d).copied().unwrap_or(0.0) * inv_n
+                match scalar_mean {
+                    Some(m) => m,
+                    None => self.sum.get(d).copied().unwrap_or(0.0) * inv_n,
+                }
             } else {
                 x.get(d).copied().unwrap_or(0.0)
             };

@@ -39,7 +39,7 @@ use crate::encoding::column::ColumnEncoding;
 use crate::encoding::corridor::{CorridorEncoding, Station};
 use crate::encoding::walk::{CornerRule, WalkEncoding, validate_walk};
 use crate::error::PlanError;
-use crate::geometry::Cell;
+use crate::geometry::{Cell, Point, segment_is_clear};
 use crate::grid::GridRef;
 use crate::optim::any::{AlgorithmKind, AnyOptimizer};
 use crate::optim::gwo::{Gwo, GwoParams};
@@ -47,7 +47,7 @@ use crate::optim::hho::{Hho, HhoParams};
 use crate::optim::random::Random;
 use crate::optim::{Bounds, Objective, OptimError, Optimizer, Settings};
 use crate::path::{self, PathView};
-use crate::search::{SearchNode, astar, check_endpoints};
+use crate::search::{SearchNode, astar, check_endpoints, theta};
 
 /// Every planner of the crate, by its command-line name.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -133,6 +133,37 @@ impl EncodingKind {
     }
 }
 
+/// The exact route the corridor encoding's stations sit on (it fixes the homotopy class the
+/// optimizer searches in).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub enum GuideKind {
+    /// The octile A* route. Many routes tie under octile costs, and the one A* keeps is often
+    /// not in the class of the shortest any-angle path.
+    #[default]
+    AStar,
+    /// The Theta* route (any-angle costs pick the class), resampled along its segments so
+    /// that stations can sit between its few turning points.
+    Theta,
+    /// A route the caller has written into [`Workspace::guide`] before calling [`plan`],
+    /// normally the shortest any-angle path of the visibility graph
+    /// ([`VisibilityGraph::route`](crate::search::visibility::VisibilityGraph::route), feature
+    /// `alloc`; [`owned::HostPlanner`] does it). It is checked (from `start` to `goal`, every
+    /// segment clear) and resampled; the A* route is used instead when it fails the check.
+    Visibility,
+}
+
+impl GuideKind {
+    /// `astar` or `theta`.
+    pub const fn name(self) -> &'static str {
+        match self {
+            GuideKind::AStar => "astar",
+            GuideKind::Theta => "theta",
+            GuideKind::Visibility => "visibility",
+        }
+    }
+}
+
 /// Where the initial population comes from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
@@ -169,6 +200,8 @@ pub struct PlanParams {
     pub prune: bool,
     /// Corner rule of the walk encoding (the other encodings always use SPEC's rule).
     pub corner_rule: CornerRule,
+    /// Corridor encoding: the guide route.
+    pub guide: GuideKind,
     /// Corridor encoding: guide length between stations (cells).
     pub corridor_spacing: f32,
     /// Corridor encoding: lateral reach of a waypoint (cells).
@@ -192,6 +225,7 @@ impl PlanParams {
             init: InitKind::Optimizer,
             prune: true,
             corner_rule: CornerRule::Strict,
+            guide: GuideKind::AStar,
             corridor_spacing: 8.0,
             corridor_radius: 5.0,
             walk_steps: 0,
@@ -369,11 +403,33 @@ pub fn plan<const N: usize, const D: usize, O: PlanOptimizer<N, D>>(
     if params.population > N {
         return Err(PlanError::CapacityExceeded);
     }
-    // The exact reference route doubles as the reachability test: A* exhausts the start's
-    // component before it reports NoValidPath.
-    astar::plan(grid, start, goal, ws.nodes, ws.guide)?;
+    // A caller's route settles reachability by itself; otherwise the exact reference route
+    // doubles as the reachability test: A* exhausts the start's component before it reports
+    // NoValidPath.
+    let given = params.encoding == EncodingKind::Corridor
+        && params.guide == GuideKind::Visibility
+        && path::validate(grid, ws.guide, start, goal).is_ok()
+        // Resampled through `out`, which is free until the result is decoded.
+        && {
+            out.clear();
+            ws.guide.iter().all(|p| out.push(*p).is_ok())
+        };
+    if given {
+        resample(grid, out, ws.guide);
+    } else {
+        astar::plan(grid, start, goal, ws.nodes, ws.guide)?;
+    }
     match params.encoding {
         EncodingKind::Corridor => {
+            // Reachability is settled; `out` is free until the result is decoded. Should the
+            // Theta* route not fit (it has fewer points than the A* one), the A* guide stays.
+            if params.guide == GuideKind::Theta
+                && ws.guide.len() > 2
+                && theta::plan(grid, start, goal, ws.nodes, out).is_ok()
+                && out.len() <= ws.guide.capacity()
+            {
+                resample(grid, out, ws.guide);
+            }
             if ws.guide.len() <= 2 {
                 return trivial(grid, ws.guide, out);
             }
@@ -452,6 +508,48 @@ fn check_params(p: &PlanParams) -> Result<(), PlanError> {
         return Err(PlanError::InvalidParameters);
     }
     Ok(())
+}
+
+/// Writes `route` into `guide` with extra points along its segments, about one per cell of
+/// length (fewer if `guide` is short of room), so that corridor stations can sit anywhere on
+/// it. A segment keeps its extra points only if every piece is clear under the `f32` rule (the
+/// corridor checks pieces with it); otherwise it stays whole, which is clear by the exact rule.
+fn resample(grid: GridRef<'_>, route: &PathView, guide: &mut PathView) {
+    guide.clear();
+    let total = path::length(route);
+    let room = guide.capacity().saturating_sub(route.len());
+    let step = if room == 0 {
+        f32::INFINITY
+    } else {
+        (total / room as f32).max(1.0)
+    };
+    let Some(&first) = route.first() else {
+        return;
+    };
+    let _ = guide.push(first);
+    for pair in route.windows(2) {
+        let (a, b) = (pair[0], pair[1]);
+        let pieces = if step.is_finite() {
+            (libm::floorf(a.distance(b) / step) as usize).max(1)
+        } else {
+            1
+        };
+        let at = |k: usize| match k {
+            0 => a,
+            k if k == pieces => b,
+            k => {
+                let t = k as f32 / pieces as f32;
+                Point::new(a.x + t * (b.x - a.x), a.y + t * (b.y - a.y))
+            }
+        };
+        let clear = (0..pieces).all(|k| segment_is_clear(grid, at(k), at(k + 1)));
+        if clear && guide.len() + pieces <= guide.capacity() {
+            for k in 1..pieces {
+                let _ = guide.push(at(k));
+            }
+        }
+        let _ = guide.push(b);
+    }
 }
 
 /// The guide itself (start equals goal, or goal adjacent): nothing to optimise.

@@ -368,3 +368,57 @@ fn aco_baseline_finds_valid_paths() {
         PlanError::InvalidParameters
     );
 }
+
+/// A lattice of shelves (1-cell gaps every 6 columns, aisles every 3 rows): every staircase
+/// ties under octile costs, so the A* route's class is arbitrary; the visibility route's is
+/// the shortest one.
+#[cfg(feature = "alloc")]
+#[test]
+fn visibility_guide_finds_the_shortest_class_and_falls_back_to_a_star() {
+    use crate::search::visibility::VisibilityGraph;
+    let mut rows = std::string::String::new();
+    for y in 0..30 {
+        for x in 0..40 {
+            let shelf = y % 3 != 2 && x % 6 != 0;
+            rows.push(if shelf && (2..28).contains(&y) {
+                '@'
+            } else {
+                '.'
+            });
+        }
+        rows.push('\n');
+    }
+    let g = G::parse_rows(rows.as_bytes()).unwrap();
+    let (s, t) = (Cell::new(39, 29), Cell::new(0, 0));
+    let vg = VisibilityGraph::new(g.view());
+    let bound = vg.shortest(g.view(), s, t).unwrap() as f32;
+    let base = PlanParams {
+        iterations: 200,
+        ..PlanParams::new(AlgorithmKind::Tclhho)
+    };
+    let mut scratch = Scratch::new();
+    let (astar_guided, _) = scratch.run(&g, s, t, &base).unwrap();
+
+    let params = PlanParams {
+        guide: GuideKind::Visibility,
+        ..base
+    };
+    assert!(vg.route(g.view(), s, t, &mut scratch.guide));
+    let (report, path) = scratch.run(&g, s, t, &params).unwrap();
+    assert_eq!(validate(g.view(), &path, s, t), Ok(()));
+    assert!(report.length >= bound - 1e-3);
+    assert!(
+        report.length <= bound * 1.002,
+        "{} vs {bound}",
+        report.length
+    );
+    assert!(report.length < astar_guided.length - 0.5);
+
+    // A route that is not one (wrong start) is ignored: the plan uses the A* guide.
+    scratch.guide.clear();
+    scratch.guide.push(Cell::new(0, 29).center()).unwrap();
+    scratch.guide.push(t.center()).unwrap();
+    let (fallback, path) = scratch.run(&g, s, t, &params).unwrap();
+    assert_eq!(validate(g.view(), &path, s, t), Ok(()));
+    assert_eq!(fallback.length, astar_guided.length);
+}

@@ -3,7 +3,9 @@
 //! - [`astar`]: A* with octile costs and no corner cutting: the shortest 8-connected path
 //!   (Moving AI's published optimal lengths are golden values for it);
 //! - [`theta`]: Theta*, any-angle paths never longer than A*'s;
-//! - [`connectivity`]: component labels, so that an unreachable goal is reported at once.
+//! - [`connectivity`]: component labels, so that an unreachable goal is reported at once;
+//! - `visibility` (feature `alloc`, host only): the reduced visibility graph of the obstacle
+//!   corners, for shortest any-angle routes and lower bounds.
 //!
 //! The search state lives in a caller-owned slice of [`SearchNode`] with one entry per map
 //! cell (a `static` array in firmware, a `Vec` on a host), so no planner allocates and the
@@ -25,6 +27,8 @@
 pub mod astar;
 pub mod connectivity;
 pub mod theta;
+#[cfg(feature = "alloc")]
+pub mod visibility;
 
 use crate::error::PlanError;
 use crate::geometry::{Cell, Point};

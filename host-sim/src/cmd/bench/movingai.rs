@@ -54,6 +54,9 @@ pub struct MovingaiArgs {
     /// Seed (row `k` uses `seed + k`).
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
+    /// The corridor encoding's guide route.
+    #[arg(long, value_enum, default_value_t = crate::cmd::plan::GuideArg::Visibility)]
+    pub guide: crate::cmd::plan::GuideArg,
     /// Output folder.
     #[arg(long, default_value = "bench-out/movingai")]
     pub out: PathBuf,
@@ -159,6 +162,7 @@ pub fn run(args: &MovingaiArgs) -> anyhow::Result<()> {
                     iterations: args.iters,
                     stagnation: args.stagnation,
                     seed: args.seed + k as u64,
+                    guide: args.guide.kind(),
                     ..PlanParams::new(AlgorithmKind::Tclhho)
                 };
                 let view: &mut PathView = &mut *out;
