@@ -470,6 +470,39 @@ mod tests {
     }
 
     #[test]
+    fn scalar_mean_pools_every_coordinate_of_every_hawk() {
+        let b = Bounds::<3>::uniform(3, -10.0, 10.0).unwrap();
+        let s = Settings {
+            population: 4,
+            iterations: 10,
+            seed: 3,
+        };
+        let scalar = HhoParams {
+            mean: HawkMean::Scalar,
+            ..HhoParams::hho()
+        };
+        let mut h = Hho::<4, 3>::new(s, &b, scalar).unwrap();
+        let rows: [&[f32]; 4] = [
+            &[1.0, 2.0, 3.0],
+            &[4.0, 5.0, 6.0],
+            &[7.0, 8.0, 9.0],
+            &[0.0; 3],
+        ];
+        h.init(&mut shifted_sphere, Some(&rows)).unwrap();
+        // (Each step starts from the sum over the population, as it stands then.)
+        h.recompute_sum();
+        assert_eq!(h.scalar_mean(), Some(45.0 / 12.0));
+        // HHO.m's reading keeps one mean per dimension.
+        let mut h = Hho::<4, 3>::new(s, &b, HhoParams::hho()).unwrap();
+        h.init(&mut shifted_sphere, Some(&rows)).unwrap();
+        h.recompute_sum();
+        assert_eq!(h.scalar_mean(), None);
+        assert_eq!(&h.sum, &[12.0, 15.0, 18.0]);
+        // And the two readings search differently.
+        assert_ne!(run(scalar, 5), run(HhoParams::hho(), 5));
+    }
+
+    #[test]
     fn deterministic_per_seed() {
         assert_eq!(run(HhoParams::tclhho(), 5), run(HhoParams::tclhho(), 5));
         assert_ne!(run(HhoParams::tclhho(), 5), run(HhoParams::tclhho(), 6));
