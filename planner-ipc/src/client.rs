@@ -422,7 +422,13 @@ impl PlannerClient {
                 return Err(ClientError::Timeout);
             }
             if now < spin_until {
-                std::hint::spin_loop();
+                if matches!(wait, Wait::Blocking { .. }) {
+                    // A server woken by our notification often runs on this core (the
+                    // scheduler's wake affinity): spinning would keep it off until we sleep.
+                    std::thread::yield_now();
+                } else {
+                    std::hint::spin_loop();
+                }
             } else if let Some(w) = &self.wake {
                 // Capped, so that even a missed wake-up costs at most 10 ms.
                 let left = (deadline - now).min(Duration::from_millis(10));

@@ -182,7 +182,9 @@ pub fn run(config: &ServerConfig, shutdown: &AtomicBool) -> anyhow::Result<()> {
                         log::debug!("wake listener: {e:?}");
                     }
                 } else {
-                    std::hint::spin_loop();
+                    // Yield rather than spin: a client woken by our answer may share this
+                    // core, and its next request would wait for our time slice to end.
+                    std::thread::yield_now();
                 }
             }
         }
