@@ -14,7 +14,8 @@
 //! and mean of the best path's length and energy over the runs whose best path is valid.
 //! Writes `results.json`, `tables.csv`, `paths.png` (top view) and `convergence.png` under
 //! `--out`. `--heightmap FILE` replaces the generated terrain by a DEM (16-bit PNG or PGM).
-//! `--bench` times SSA-GWO runs and single evaluations instead.
+//! `--bench` times SSA-GWO runs and single evaluations instead, beside a baseline in the same
+//! process (decoding the waypoints and summing their horizontal segment lengths).
 
 use super::bench::{fmt, mean_std, print_table, progress, write_csv, write_json};
 use crate::render::{Disc, FieldPicture, Layer, Series, Style, convergence_plot};
@@ -751,6 +752,23 @@ fn bench(
     }
     let per_eval_ns = t0.elapsed().as_secs_f64() * 1e9 / count as f64;
     std::hint::black_box(acc);
+    // Baseline on the same points, in the same process: decode the waypoints and sum the
+    // horizontal (2D) segment lengths, without draping over the terrain or obstacles. The
+    // ratio is less sensitive to the machine's load than the absolute times.
+    let t0 = Instant::now();
+    let mut acc = 0.0f32;
+    let mut wp = [Point3::default(); MAX_PLANES + 2];
+    for x in points.chunks(dim) {
+        let n = objective
+            .waypoints(std::hint::black_box(x), &mut wp)
+            .unwrap_or(0);
+        acc += wp[..n]
+            .windows(2)
+            .map(|w| (w[1].x - w[0].x).hypot(w[1].y - w[0].y))
+            .sum::<f32>();
+    }
+    let baseline_ns = t0.elapsed().as_secs_f64() * 1e9 / count as f64;
+    std::hint::black_box(acc);
     // Whole SSA-GWO runs.
     let runs = args.runs.clamp(1, 10);
     let mut times = Vec::new();
@@ -782,6 +800,8 @@ fn bench(
         format!("{evals}"),
         fmt(mean * 1e9 / evals as f64, 0),
         fmt(per_eval_ns, 0),
+        fmt(baseline_ns, 0),
+        fmt(per_eval_ns / baseline_ns, 1),
     ]];
     print_table(
         "SSA-GWO on the terrain objective (release build recommended)",
@@ -795,6 +815,8 @@ fn bench(
             "evals/run",
             "ns/eval in run",
             "ns/eval alone",
+            "ns/baseline",
+            "eval/baseline",
         ],
         &rows,
     );
@@ -810,6 +832,8 @@ fn bench(
         evaluations_per_run: u64,
         ns_per_evaluation_in_run: f64,
         ns_per_evaluation_alone: f64,
+        ns_per_baseline: f64,
+        evaluation_over_baseline: f64,
     }
     write_json(
         &out.join("bench.json"),
@@ -824,6 +848,8 @@ fn bench(
             evaluations_per_run: evals,
             ns_per_evaluation_in_run: mean * 1e9 / evals as f64,
             ns_per_evaluation_alone: per_eval_ns,
+            ns_per_baseline: baseline_ns,
+            evaluation_over_baseline: per_eval_ns / baseline_ns,
         },
     )
 }
