@@ -539,7 +539,11 @@ pub fn run(args: &TerrainArgs) -> anyhow::Result<()> {
             results: &results,
         },
     )?;
-    pictures(&exp, &terrain, &algorithms, &results, &out)?;
+    // A best F at or above one intrusion's weighted penalty is a path still inside an
+    // obstacle: left out of the convergence plot so that the valid part is readable.
+    let p = objective.params();
+    let invalid_from = (1.0 - p.w1 - p.w2) * p.penalty;
+    pictures(&exp, &terrain, &algorithms, &results, invalid_from, &out)?;
     eprintln!("wrote {}", out.display());
     Ok(())
 }
@@ -652,6 +656,7 @@ fn pictures(
     terrain: &HostTerrain,
     algorithms: &[&str],
     results: &[RunResult],
+    invalid_from: f32,
     out: &Path,
 ) -> anyhow::Result<()> {
     // Best valid run per algorithm (lowest F).
@@ -678,7 +683,8 @@ fn pictures(
             .map(|i| {
                 let mut v: Vec<f32> = rs.iter().map(|r| r.history[i]).collect();
                 v.sort_by(f32::total_cmp);
-                v[v.len() / 2]
+                let m = v[v.len() / 2];
+                if m < invalid_from { m } else { f32::NAN }
             })
             .collect();
         curves.push((name.to_string(), median));
@@ -717,7 +723,7 @@ fn pictures(
     let series: Vec<Series<'_>> = curves.iter().map(|(n, v)| Series::new(n, v)).collect();
     convergence_plot(
         &format!(
-            "Seed 001 experiment {}: median best F over runs per iteration",
+            "Seed 001 experiment {}: median best F over runs (gap: inside an obstacle)",
             exp.number
         ),
         "iteration",
