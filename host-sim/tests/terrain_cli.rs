@@ -174,6 +174,43 @@ fn reported_terrain_paths_stay_on_the_ground_and_outside_every_obstacle() {
 }
 
 #[test]
+fn shifted_search_box_reports_unshifted_valid_paths() {
+    // `--shift 5`: the optimizers search offset + 5 km; the reported paths must still be the
+    // evaluated ones (valid, and their L the one in the tables).
+    let dir = tmp("shift");
+    let doc = run_cli(
+        &dir,
+        &[
+            "--experiment",
+            "3",
+            "--shift",
+            "5",
+            "--runs",
+            "1",
+            "--iterations",
+            "40",
+            "--population",
+            "30",
+        ],
+    );
+    assert_eq!(f(&doc["shift"]), 5.0);
+    let counts = check_all(&doc, ON_GROUND);
+    let ssa_gwo = counts.iter().find(|c| c.0 == "SSA-GWO").unwrap();
+    assert_eq!(ssa_gwo.1, 1, "{counts:?}");
+    // Reporting the searched `v` instead of the offsets would move the path 5 km sideways.
+    let run = doc["results"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|r| r["algorithm"] == "SSA-GWO")
+        .unwrap();
+    let length = f(&run["best"]["length"]);
+    println!("SSA-GWO with --shift 5: L = {length} km");
+    assert!(length < 32.0, "{length}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
 fn literal_mode_paths_stay_above_the_ground_and_outside_every_obstacle() {
     let dir = tmp("literal");
     let doc = run_cli(

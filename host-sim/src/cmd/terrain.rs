@@ -65,6 +65,11 @@ pub struct TerrainArgs {
     /// Interior planes (default: 20 for experiments 1 and 2, 28 for experiment 3).
     #[arg(long)]
     pub planes: Option<usize>,
+    /// Diagnostic: the continuous optimizers search `v = t + shift` (km) instead of each
+    /// lateral offset `t`, the box shifted alike, so that the box's origin is no longer the
+    /// straight line (an origin-biased optimizer gains nothing from it). ACO is unaffected.
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    pub shift: f32,
     /// Literal mode: waypoint heights are decision variables too (ACO is skipped).
     #[arg(long)]
     pub literal: bool,
@@ -374,6 +379,16 @@ pub fn run(args: &TerrainArgs) -> anyhow::Result<()> {
     let bounds: Bounds<D> = encoding
         .bounds_box()
         .map_err(|e| anyhow::anyhow!("bounds: {e}"))?;
+    if !args.shift.is_finite() || (args.bench && args.shift != 0.0) {
+        bail!("--shift must be finite, and is not used with --bench");
+    }
+    let bounds = if args.shift == 0.0 {
+        bounds
+    } else {
+        let lo: Vec<f32> = shifted(bounds.lower(), encoding.planes(), args.shift);
+        let hi: Vec<f32> = shifted(bounds.upper(), encoding.planes(), args.shift);
+        Bounds::from_slices(&lo, &hi).map_err(|e| anyhow::anyhow!("bounds: {e}"))?
+    };
     if args.population == 0 || args.population > N {
         bail!("--population must be 1..={N}");
     }
@@ -519,6 +534,7 @@ pub fn run(args: &TerrainArgs) -> anyhow::Result<()> {
     struct Output<'a> {
         experiment: &'a Experiment,
         mode: &'static str,
+        shift: f32,
         runs: u32,
         iterations: u32,
         population: usize,
@@ -531,6 +547,7 @@ pub fn run(args: &TerrainArgs) -> anyhow::Result<()> {
         &Output {
             experiment: &exp,
             mode: if args.literal { "free" } else { "terrain" },
+            shift: args.shift,
             runs: args.runs,
             iterations: args.iterations,
             population: args.population,
@@ -589,21 +606,25 @@ fn one_run(
         "PSO" => drive(
             Box::new(Pso::<N, D>::new(settings, bounds, PsoParams::seed_001()).map_err(oe)?),
             objective,
+            args.shift,
             &mut history,
         )?,
         "GWO" => drive(
             Box::new(Gwo::<N, D>::new(settings, bounds, GwoParams::gwo()).map_err(oe)?),
             objective,
+            args.shift,
             &mut history,
         )?,
         "SSA" => drive(
             Box::new(Ssa::<N, D>::new(settings, bounds, SsaParams::seed_001()).map_err(oe)?),
             objective,
+            args.shift,
             &mut history,
         )?,
         "SSA-GWO" => drive(
             Box::new(SsaGwo::<N, D>::new(settings, bounds, SsaGwoParams::seed_001()).map_err(oe)?),
             objective,
+            args.shift,
             &mut history,
         )?,
         other => bail!("unknown algorithm {other}"),
@@ -629,6 +650,14 @@ fn one_run(
     })
 }
 
+/// `v` with `shift` added to its first `planes` entries.
+fn shifted(v: &[f32], planes: usize, shift: f32) -> Vec<f32> {
+    v.iter()
+        .enumerate()
+        .map(|(i, x)| if i < planes { x + shift } else { *x })
+        .collect()
+}
+
 fn oe(e: planner_core::optim::OptimError) -> anyhow::Error {
     anyhow::anyhow!("optimizer: {e}")
 }
@@ -638,14 +667,29 @@ fn oe(e: planner_core::optim::OptimError) -> anyhow::Error {
 fn drive<O: Optimizer>(
     mut opt: Box<O>,
     objective: &TerrainObjective<'_>,
+    shift: f32,
     history: &mut [f32],
 ) -> anyhow::Result<(Vec<f32>, u64, u32)> {
-    let mut obj = objective.clone();
-    let r = opt
-        .run(&mut obj, None, &Stop::default(), history)
-        .map_err(oe)?;
+    let planes = objective.encoding().planes();
+    let r = if shift == 0.0 {
+        let mut obj = objective.clone();
+        opt.run(&mut obj, None, &Stop::default(), history)
+    } else {
+        // `v` is searched; the objective sees `t = v - shift` on the lateral offsets.
+        let mut obj = |v: &[f32]| {
+            let mut t = [0.0f32; D];
+            let n = v.len().min(D);
+            t[..n].copy_from_slice(&v[..n]);
+            for x in t.iter_mut().take(planes.min(n)) {
+                *x -= shift;
+            }
+            objective.evaluate(&t[..n]).cost
+        };
+        opt.run(&mut obj, None, &Stop::default(), history)
+    }
+    .map_err(oe)?;
     Ok((
-        opt.best_position().to_vec(),
+        shifted(opt.best_position(), planes, -shift),
         r.evaluations,
         r.best_iteration,
     ))
@@ -789,7 +833,7 @@ fn bench(
         let opt =
             Box::new(SsaGwo::<N, D>::new(settings, bounds, SsaGwoParams::seed_001()).map_err(oe)?);
         let t = Instant::now();
-        let (_, e, _) = drive(opt, objective, &mut [])?;
+        let (_, e, _) = drive(opt, objective, 0.0, &mut [])?;
         times.push(t.elapsed().as_secs_f64());
         evals = e;
         bar.inc(1);
