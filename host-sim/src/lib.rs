@@ -4,9 +4,11 @@
 //! - [`maps`]: Moving AI loading and host-sized grids;
 //! - [`mapsrc`]: simulator map sources (generated warehouses, Moving AI, ROS `map_server`);
 //! - [`render`]: PNG/SVG pictures;
-//! - [`validate`]: an independent f64 path validator.
+//! - [`validate`]: an independent f64 path validator;
+//! - [`terrain_check`]: an independent f64 checker of 3D terrain paths (seed 001).
 
 pub mod maps;
 pub mod mapsrc;
 pub mod render;
+pub mod terrain_check;
 pub mod validate;
