@@ -232,20 +232,53 @@ pub fn pixel_blocked(meta: &RosMeta, shade: u8, alpha: u8) -> bool {
     }
 }
 
-/// Loads a YAML file and its image.
+/// Largest image side accepted (the host grid's capacity).
+pub const MAX_SIDE: u32 = 1024;
+
+/// Loads a YAML file and its image (read from the path the YAML names).
 pub fn load(path: &Path) -> Result<RosMap, RosMapError> {
     let text = std::fs::read_to_string(path).map_err(|e| RosMapError::Io(path.into(), e))?;
     let dir = path.parent().unwrap_or(Path::new("."));
-    let mut meta = parse_yaml(&text, dir)?;
+    let meta = parse_yaml(&text, dir)?;
     let bytes = std::fs::read(&meta.image).map_err(|e| RosMapError::Io(meta.image.clone(), e))?;
-    let img = image::ImageReader::new(std::io::Cursor::new(bytes))
-        .with_guessed_format()
-        .map_err(|e| RosMapError::Image(e.to_string()))?
+    decode(meta, &bytes)
+}
+
+/// Parses a map from memory: the YAML text (`dir` resolves its relative image path, which
+/// is recorded in the metadata but not read) and the image file's bytes (PGM or PNG). This
+/// is [`load`] without the file system; every failure is a [`RosMapError`].
+pub fn parse(yaml: &str, dir: &Path, image: &[u8]) -> Result<RosMap, RosMapError> {
+    decode(parse_yaml(yaml, dir)?, image)
+}
+
+/// Decodes the image bytes under `meta` into the grid.
+fn decode(mut meta: RosMeta, bytes: &[u8]) -> Result<RosMap, RosMapError> {
+    let reader = || {
+        image::ImageReader::new(std::io::Cursor::new(bytes))
+            .with_guessed_format()
+            .map_err(|e| RosMapError::Image(e.to_string()))
+    };
+    // The declared size first: a header announcing a huge image must not make the decoder
+    // allocate it.
+    let (w, h) = reader()?
+        .into_dimensions()
+        .map_err(|e| RosMapError::Image(e.to_string()))?;
+    if w == 0 || h == 0 || w > MAX_SIDE || h > MAX_SIDE {
+        return Err(RosMapError::BadSize(w, h));
+    }
+    let mut limits = image::Limits::default();
+    limits.max_image_width = Some(MAX_SIDE);
+    limits.max_image_height = Some(MAX_SIDE);
+    // 1024 x 1024 pixels of at most 16-bit RGBA, with room for the decoder's buffers.
+    limits.max_alloc = Some(64 << 20);
+    let mut r = reader()?;
+    r.limits(limits);
+    let img = r
         .decode()
         .map_err(|e| RosMapError::Image(e.to_string()))?
         .to_luma_alpha8();
-    let (w, h) = img.dimensions();
-    if w == 0 || h == 0 || w > 1024 || h > 1024 {
+    if img.dimensions() != (w, h) {
+        let (w, h) = img.dimensions();
         return Err(RosMapError::BadSize(w, h));
     }
     meta.height = h as usize;
