@@ -210,7 +210,9 @@ fn request(engine: &Engine, model: &Model, mut req: PlanRequest) {
                 |xy: [i32; 2]| (0..w).contains(&(xy[0] as i64)) && (0..h).contains(&(xy[1] as i64));
             match e {
                 PlanError::StartOutsideMap => assert!(!inside(req.start)),
-                PlanError::GoalOutsideMap => assert!(inside(req.start) && !inside(req.goal)),
+                PlanError::GoalOutsideMap => {
+                    assert!(inside(req.start) && !inside(req.goal), "{req:?} on {w}x{h}")
+                }
                 PlanError::InvalidParameters => {
                     // Only a swarm planner's own limits (e.g. population 1) or an
                     // inflation radius the map cannot take.
