@@ -362,6 +362,67 @@ mod tests {
         assert!(pixel_blocked(&m, 255, 255));
     }
 
+    const YAML: &str = "image: m.pgm\nresolution: 0.5\norigin: [0, 0, 0]\n";
+
+    #[test]
+    fn parses_from_bytes() {
+        // 3 x 2: white, black, ROS grey / white, white, black.
+        let mut pgm = b"P5\n3 2\n255\n".to_vec();
+        pgm.extend_from_slice(&[254, 0, 205, 254, 254, 0]);
+        let map = parse(YAML, Path::new("/maps"), &pgm).unwrap();
+        assert_eq!((map.grid.width(), map.grid.height()), (3, 2));
+        assert_eq!(map.meta.height, 2);
+        assert_eq!(map.meta.image, PathBuf::from("/maps/m.pgm"));
+        let g = map.grid.view();
+        let blocked: Vec<bool> = (0..2)
+            .flat_map(|y| (0..3).map(move |x| (x, y)))
+            .map(|(x, y)| g.is_blocked(x, y))
+            .collect();
+        assert_eq!(blocked, [false, true, true, false, false, true]);
+        // The YAML is checked before the image.
+        assert!(matches!(
+            parse(
+                "image: m\nresolution: 0\norigin: [0, 0, 0]\n",
+                Path::new("."),
+                &pgm
+            ),
+            Err(RosMapError::BadResolution)
+        ));
+    }
+
+    #[test]
+    fn bad_images_are_typed_and_never_allocated() {
+        // A header announcing 60000 x 60000 pixels with no data: refused from the header
+        // (the decoder would otherwise try to allocate 3.6 GB).
+        let huge = b"P5\n60000 60000\n255\n".to_vec();
+        assert!(matches!(
+            parse(YAML, Path::new("."), &huge),
+            Err(RosMapError::BadSize(60000, 60000))
+        ));
+        let wide = b"P5\n1025 1\n255\n".to_vec();
+        assert!(matches!(
+            parse(YAML, Path::new("."), &wide),
+            Err(RosMapError::BadSize(1025, 1))
+        ));
+        // Truncated pixel data, a bad header, not an image at all, an empty file.
+        for bytes in [
+            &b"P5\n4 4\n255\n\x00\x01"[..],
+            &b"P5\n4 x\n255\n"[..],
+            &b"hello, world"[..],
+            &b""[..],
+            &b"\x89PNG\r\n\x1a\n\x00\x00"[..],
+        ] {
+            let r = parse(YAML, Path::new("."), bytes);
+            assert!(
+                matches!(
+                    r,
+                    Err(RosMapError::Image(_)) | Err(RosMapError::BadSize(..))
+                ),
+                "{bytes:?}"
+            );
+        }
+    }
+
     #[test]
     fn world_frame_flips_rows() {
         let mut m = meta("image: a\nresolution: 0.5\norigin: [10.0, 20.0, 0]\n").unwrap();
