@@ -460,7 +460,7 @@ fn client_churn_leaves_no_descriptors_behind() {
             .unwrap()
             .count()
     };
-    let mut churn = |n: usize| {
+    let churn = |n: usize| {
         for _ in 0..n {
             let mut c = client(&p);
             c.plan(&good, T).unwrap();

@@ -69,7 +69,7 @@ fn fd_targets(pid: u32) -> String {
         *groups.entry(key).or_default() += 1;
     }
     let mut v: Vec<_> = groups.into_iter().collect();
-    v.sort_by(|a, b| b.1.cmp(&a.1));
+    v.sort_by_key(|e| std::cmp::Reverse(e.1));
     v.iter()
         .map(|(k, n)| format!("{n:5} {k}"))
         .collect::<Vec<_>>()
@@ -110,7 +110,11 @@ fn soak_mixed_load() {
     let mut spawned = 0u64;
     let spawn = |spawned: &mut u64| {
         *spawned += 1;
-        let planners = if *spawned % 2 == 0 { "all" } else { "search" };
+        let planners = if spawned.is_multiple_of(2) {
+            "all"
+        } else {
+            "search"
+        };
         Driver {
             proc: driver(&[
                 "churn",
@@ -124,7 +128,7 @@ fn soak_mixed_load() {
                 "5",
             ]),
             began: Instant::now(),
-            kill_early: *spawned % 4 == 0,
+            kill_early: spawned.is_multiple_of(4),
         }
     };
     let mut drivers = vec![spawn(&mut spawned), spawn(&mut spawned)];
@@ -165,7 +169,9 @@ fn soak_mixed_load() {
             let file = dir.join(format!("soak-{id}.map"));
             let r = next();
             write_map(&file, 64, 64, |x, y| {
-                (x * 31 + y * 17 + r as usize) % 11 == 0 && (x, y) != (0, 0) && (x, y) != (63, 63)
+                (x * 31 + y * 17 + r as usize).is_multiple_of(11)
+                    && (x, y) != (0, 0)
+                    && (x, y) != (63, 63)
             });
             let version = c.upload_map_file(&file, id).unwrap();
             c.wait_for_map(id, version, Duration::from_secs(5)).unwrap();

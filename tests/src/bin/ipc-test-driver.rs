@@ -194,7 +194,7 @@ fn churn(
         let cell = |v: u64| [(v % w) as i32, ((v / w) % h) as i32];
         let algo = if all_planners {
             Algorithm::ALL[(i % Algorithm::ALL.len() as u64) as usize]
-        } else if i % 2 == 0 {
+        } else if i.is_multiple_of(2) {
             Algorithm::AStar
         } else {
             Algorithm::ThetaStar
