@@ -1,19 +1,26 @@
 #!/usr/bin/env bash
-# Short bounded fuzz run for CI: every planner-core target for FUZZ_SECONDS (default 25 s)
-# on its committed corpus, single job. Exits non-zero on any crash, hang (-timeout) or
-# leak, and when the nightly toolchain or cargo-fuzz cannot be had.
+# Short bounded fuzz run for CI: every fuzz target of the repository for FUZZ_SECONDS
+# (default 20 s) on its committed corpus, single job. Exits non-zero on any crash, hang
+# (-timeout) or leak, and when the nightly toolchain or cargo-fuzz cannot be had.
+#
+# Fuzz crates (each its own workspace, excluded from the main one) and their targets:
+#   planner-core/fuzz: map_parser plan_any optimizer_any search_inflate dwa_step
+#   planner-ipc/fuzz:  request_bytes (the service's request handling below the transport)
+#   host-sim/fuzz:     ros_map (the ROS map_server YAML + PGM/PNG loader)
 set -euo pipefail
-cd "$(dirname "$0")"
+cd "$(dirname "$0")/../.."
 
-SECONDS_PER_TARGET="${FUZZ_SECONDS:-25}"
+SECONDS_PER_TARGET="${FUZZ_SECONDS:-20}"
 
-# planner-core's targets. Targets of other components (DWA step, ROS YAML/PGM map loader,
-# planner service request handling) are appended to this list when they land.
+# "crate directory:target"
 TARGETS=(
-    map_parser
-    plan_any
-    optimizer_any
-    search_inflate
+    planner-core/fuzz:map_parser
+    planner-core/fuzz:plan_any
+    planner-core/fuzz:optimizer_any
+    planner-core/fuzz:search_inflate
+    planner-core/fuzz:dwa_step
+    planner-ipc/fuzz:request_bytes
+    host-sim/fuzz:ros_map
 )
 
 if ! rustup run nightly rustc --version >/dev/null 2>&1; then
@@ -26,17 +33,21 @@ if ! cargo fuzz --version >/dev/null 2>&1; then
 fi
 cargo fuzz --version
 
-cargo +nightly fuzz build -O
-for t in "${TARGETS[@]}"; do
-    echo "==> fuzz $t for ${SECONDS_PER_TARGET}s"
+for dir in planner-core/fuzz planner-ipc/fuzz host-sim/fuzz; do
+    (cd "$dir" && cargo +nightly fuzz build -O)
+done
+for entry in "${TARGETS[@]}"; do
+    dir="${entry%%:*}"
+    t="${entry#*:}"
+    echo "==> fuzz $dir $t for ${SECONDS_PER_TARGET}s"
     # Work on a scratch copy so that the run does not grow the committed corpus.
     scratch="$(mktemp -d)"
-    cp -r "corpus/$t/." "$scratch/"
-    if ! cargo +nightly fuzz run -O "$t" "$scratch" -- \
+    cp -r "$dir/corpus/$t/." "$scratch/"
+    if ! (cd "$dir" && cargo +nightly fuzz run -O "$t" "$scratch" -- \
         -max_total_time="$SECONDS_PER_TARGET" -timeout=10 -rss_limit_mb=2048 \
-        -print_final_stats=1 2>"$scratch.log"; then
+        -print_final_stats=1 2>"$scratch.log"); then
         tail -n 60 "$scratch.log" >&2
-        echo "fuzz/ci.sh: target $t failed (crash input under fuzz/artifacts/$t/)" >&2
+        echo "fuzz/ci.sh: target $t failed (crash input under $dir/artifacts/$t/)" >&2
         exit 1
     fi
     grep -E '^(Done|stat::number_of_executed_units)' "$scratch.log" || true

@@ -546,7 +546,11 @@ impl Dwa {
             cmd.mode = Mode::Rotate;
             cmd.v = 0.0;
             let w = (2.0 * err).clamp(-c.w_max, c.w_max);
-            cmd.w = w.clamp(state.w - c.acc_w * c.dt, state.w + c.acc_w * c.dt);
+            // Reachable within one step, but never beyond the limit (a robot turning faster
+            // than `w_max` is commanded down to it, as the window does).
+            cmd.w = w
+                .clamp(state.w - c.acc_w * c.dt, state.w + c.acc_w * c.dt)
+                .clamp(-c.w_max, c.w_max);
             return;
         }
         // Back off if the cells behind are clear, else wait (rotation counter keeps going).

@@ -267,9 +267,14 @@ fn run_planner(
     req: &PlanRequest,
     cancelled: &mut dyn FnMut() -> bool,
 ) -> Result<PlanOk, PlanError> {
-    let start = to_cell(req.start, PlanError::StartOutsideMap)?;
-    let goal = to_cell(req.goal, PlanError::GoalOutsideMap)?;
     let grid = prepared.grid.view();
+    // The start is checked against the map before the goal is converted, so that a start
+    // outside the map is reported as such whatever the goal (as the planners do).
+    let start = to_cell(req.start, PlanError::StartOutsideMap)?;
+    if start.x as usize >= grid.width() || start.y as usize >= grid.height() {
+        return Err(PlanError::StartOutsideMap);
+    }
+    let goal = to_cell(req.goal, PlanError::GoalOutsideMap)?;
     if !scratch
         .prepared_for
         .as_ref()
@@ -401,6 +406,15 @@ mod tests {
         assert_eq!(
             e.handle(&mut s, &bad, &mut never).outcome.unwrap_err(),
             Failure::Plan(PlanError::GoalOutsideMap)
+        );
+        // Regression (fuzz target request_bytes): a start outside the map but within u16
+        // with a goal beyond i32 -> u16 was reported GoalOutsideMap.
+        bad = req;
+        bad.start = [41, 0];
+        bad.goal = [-100_663_289, 0];
+        assert_eq!(
+            e.handle(&mut s, &bad, &mut never).outcome.unwrap_err(),
+            Failure::Plan(PlanError::StartOutsideMap)
         );
         bad = req;
         bad.kind = 9;

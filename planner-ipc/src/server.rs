@@ -22,6 +22,7 @@ use crate::wire::{
 use iceoryx2::active_request::ActiveRequest;
 use iceoryx2::node::Node;
 use iceoryx2::port::notifier::Notifier;
+use iceoryx2::service::port_factory::PortFactory;
 use std::collections::HashMap;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::{Arc, Mutex, mpsc};
@@ -86,7 +87,7 @@ struct Shared {
 }
 
 struct Waker {
-    _service: services::EventService,
+    service: services::EventService,
     notifier: Notifier<Svc>,
 }
 
@@ -364,6 +365,9 @@ fn respond(shared: &Shared, active: Active, request: &PlanRequest, result: &Plan
 fn wake(shared: &Shared, token: u64) {
     let mut wakers = shared.wakers.lock().unwrap_or_else(|p| p.into_inner());
     if !wakers.contains_key(&token) {
+        // A new client: forget the events of clients that are gone (no listener left), so
+        // that client churn does not pile up open events (descriptors and mappings).
+        wakers.retain(|_, w| w.service.dynamic_config().number_of_listeners() > 0);
         if wakers.len() >= 4 * shared.limits.max_clients {
             wakers.clear();
         }
@@ -373,10 +377,7 @@ fn wake(shared: &Shared, token: u64) {
                 .notifier_builder()
                 .create()
                 .map_err(|e| anyhow::anyhow!("{e:?}"))?;
-            Ok(Waker {
-                _service: service,
-                notifier,
-            })
+            Ok(Waker { service, notifier })
         });
         match opened {
             Ok(w) => {

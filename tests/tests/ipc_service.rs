@@ -7,7 +7,7 @@ mod common;
 use common::*;
 use planner_core::PlanError;
 use planner_ipc::client::{ClientError, parse_map};
-use planner_ipc::wire::{Algorithm, PlanParams, PlanRequest, RequestKind, ServiceError};
+use planner_ipc::wire::{Algorithm, MapHeader, PlanParams, PlanRequest, RequestKind, ServiceError};
 use std::process::Command;
 use std::time::{Duration, Instant};
 
@@ -16,6 +16,148 @@ const T: Duration = Duration::from_secs(5);
 
 fn req(map: (u32, u32), start: [i32; 2], goal: [i32; 2], algo: Algorithm) -> PlanRequest {
     PlanRequest::new(map, start, goal, algo)
+}
+
+/// Garbage in every field a peer controls: map frames whose declared size does not match
+/// the words sent (beyond them, overflowing, zero, beyond capacity) and requests with
+/// out-of-range enums, counts beyond their limits, fractional counts, NaN/inf/negative
+/// floats and extreme coordinates. Each gets its typed error, the server keeps serving.
+#[test]
+fn garbage_fields_get_typed_errors() {
+    let p = prefix("garbage");
+    let server = start_server(&p, &["--max-cells", "100000"]);
+    let mut c = client(&p);
+    let v1 = c.upload_map_file(&data(WAREHOUSE), 1).unwrap();
+    c.wait_for_map(1, v1, T).unwrap();
+    let good = req((1, v1), [143, 57], [10, 16], Algorithm::AStar);
+    let ok = c.plan(&good, T).unwrap();
+
+    let frame = |id: u32, width: u32, height: u32| MapHeader {
+        map_id: id,
+        version: 1,
+        width,
+        height,
+        resolution: f32::NAN,
+        origin: [f32::INFINITY, f32::NAN],
+        reserved: 0xdead_beef,
+    };
+    let frames: Vec<(MapHeader, Vec<u32>, ServiceError)> = vec![
+        // 64 x 64 cells need 128 words; 3 sent.
+        (
+            frame(10, 64, 64),
+            vec![u32::MAX; 3],
+            ServiceError::InvalidRequest,
+        ),
+        // Zero sides.
+        (frame(11, 0, 64), vec![0; 8], ServiceError::InvalidRequest),
+        (frame(12, 64, 0), vec![0; 8], ServiceError::InvalidRequest),
+        // Sizes whose product overflows 32 bits, or exceeds the frame and server capacity.
+        (
+            frame(13, u32::MAX, u32::MAX),
+            vec![0; 8],
+            ServiceError::MapTooLarge,
+        ),
+        (
+            frame(14, 1 << 16, 1 << 16),
+            vec![0; 8],
+            ServiceError::MapTooLarge,
+        ),
+        (frame(15, 400, 300), vec![0; 8], ServiceError::MapTooLarge),
+    ];
+    for (header, words, want) in &frames {
+        c.publish_map(header, words).unwrap();
+        assert_eq!(
+            c.wait_for_map(header.map_id, 1, T),
+            Err(ClientError::Service(*want)),
+            "{header:?} with {} words",
+            words.len()
+        );
+        assert_eq!(c.plan(&good, T).as_ref(), Ok(&ok), "server stopped serving");
+    }
+    // NaN metadata is informational only: a frame with enough words is stored.
+    c.publish_map(&frame(16, 4, 4), &[0]).unwrap();
+    c.wait_for_map(16, 1, T).unwrap();
+    assert!(
+        c.plan(&req((16, 1), [0, 0], [3, 3], Algorithm::AStar), T)
+            .is_ok()
+    );
+
+    let with = |f: &dyn Fn(&mut PlanRequest)| {
+        let mut r = good;
+        f(&mut r);
+        r
+    };
+    let service = |e| ClientError::Service(e);
+    let invalid = ClientError::Plan(PlanError::InvalidParameters);
+    let cases: Vec<(PlanRequest, ClientError)> = vec![
+        (
+            with(&|r| r.algorithm = 0),
+            service(ServiceError::UnknownAlgorithm),
+        ),
+        (
+            with(&|r| r.algorithm = 13),
+            service(ServiceError::UnknownAlgorithm),
+        ),
+        (
+            with(&|r| r.algorithm = u8::MAX),
+            service(ServiceError::UnknownAlgorithm),
+        ),
+        (with(&|r| r.kind = 2), service(ServiceError::InvalidRequest)),
+        (
+            with(&|r| r.kind = u8::MAX),
+            service(ServiceError::InvalidRequest),
+        ),
+        (
+            with(&|r| r.map_version = u32::MAX),
+            service(ServiceError::UnknownMap),
+        ),
+        (
+            with(&|r| r.map_id = u32::MAX),
+            service(ServiceError::UnknownMap),
+        ),
+        // Counts beyond 2^24, fractional, negative, NaN, infinite.
+        (with(&|r| r.params.population = 1e30), invalid.clone()),
+        (
+            with(&|r| r.params.iterations = 16_777_216.0),
+            invalid.clone(),
+        ),
+        (with(&|r| r.params.iterations = 2.5), invalid.clone()),
+        (with(&|r| r.params.population = -1.0), invalid.clone()),
+        (with(&|r| r.params.extra[0] = f32::NAN), invalid.clone()),
+        (
+            with(&|r| r.params.extra[4] = f32::NEG_INFINITY),
+            invalid.clone(),
+        ),
+        (with(&|r| r.params.extra[2] = -0.5), invalid.clone()),
+        // A robot radius beyond the largest map side, or not finite.
+        (with(&|r| r.params.radius = 1e6), invalid.clone()),
+        (with(&|r| r.params.radius = f32::INFINITY), invalid.clone()),
+        // Coordinates at the ends of the i32 range.
+        (
+            with(&|r| r.start = [i32::MIN, i32::MAX]),
+            ClientError::Plan(PlanError::StartOutsideMap),
+        ),
+        (
+            with(&|r| r.goal = [i32::MAX, 0]),
+            ClientError::Plan(PlanError::GoalOutsideMap),
+        ),
+        (
+            with(&|r| r.goal = [65_535, 65_535]),
+            ClientError::Plan(PlanError::GoalOutsideMap),
+        ),
+    ];
+    for (request, want) in cases {
+        assert_eq!(c.plan(&request, T), Err(want), "{request:?}");
+        assert_eq!(c.plan(&good, T).as_ref(), Ok(&ok), "server stopped serving");
+    }
+    // Reserved bytes and an absurd deadline do not change the answer.
+    let odd = with(&|r| {
+        r.reserved = [0xff; 6];
+        r.deadline_us = u64::MAX;
+    });
+    assert_eq!(c.plan(&odd, T), Ok(ok));
+    let log = server.log_text();
+    assert!(log.contains("rejected"), "{log}");
 }
 
 /// Every bad request gets its typed error and the server keeps serving the good ones;
@@ -299,5 +441,38 @@ fn client_killed_mid_request_leaves_server_unaffected() {
     assert!(
         log.contains("cancelled") || log.contains("client gone"),
         "the server did not notice a client giving up:\n{log}"
+    );
+}
+
+/// Client churn does not pile up descriptors in the server: each blocking client has a wake
+/// event the server opens on its first answer; the server forgets the events of clients
+/// that are gone (regression: the soak saw ~4 descriptors per departed client).
+#[test]
+fn client_churn_leaves_no_descriptors_behind() {
+    let p = prefix("churnfds");
+    let server = start_server(&p, &[]);
+    let mut host = client(&p);
+    let v = host.upload_map_file(&data(WAREHOUSE), 1).unwrap();
+    host.wait_for_map(1, v, T).unwrap();
+    let good = req((1, v), [143, 57], [10, 16], Algorithm::AStar);
+    let fds = || {
+        std::fs::read_dir(format!("/proc/{}/fd", server.child.id()))
+            .unwrap()
+            .count()
+    };
+    let churn = |n: usize| {
+        for _ in 0..n {
+            let mut c = client(&p);
+            c.plan(&good, T).unwrap();
+        }
+    };
+    churn(5);
+    let before = fds();
+    churn(30);
+    let after = fds();
+    eprintln!("server descriptors: {before} after 5 clients, {after} after 35");
+    assert!(
+        after <= before + 6,
+        "descriptors grew with client churn: {before} -> {after}"
     );
 }

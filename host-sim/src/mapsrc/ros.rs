@@ -232,20 +232,53 @@ pub fn pixel_blocked(meta: &RosMeta, shade: u8, alpha: u8) -> bool {
     }
 }
 
-/// Loads a YAML file and its image.
+/// Largest image side accepted (the host grid's capacity).
+pub const MAX_SIDE: u32 = 1024;
+
+/// Loads a YAML file and its image (read from the path the YAML names).
 pub fn load(path: &Path) -> Result<RosMap, RosMapError> {
     let text = std::fs::read_to_string(path).map_err(|e| RosMapError::Io(path.into(), e))?;
     let dir = path.parent().unwrap_or(Path::new("."));
-    let mut meta = parse_yaml(&text, dir)?;
+    let meta = parse_yaml(&text, dir)?;
     let bytes = std::fs::read(&meta.image).map_err(|e| RosMapError::Io(meta.image.clone(), e))?;
-    let img = image::ImageReader::new(std::io::Cursor::new(bytes))
-        .with_guessed_format()
-        .map_err(|e| RosMapError::Image(e.to_string()))?
+    decode(meta, &bytes)
+}
+
+/// Parses a map from memory: the YAML text (`dir` resolves its relative image path, which
+/// is recorded in the metadata but not read) and the image file's bytes (PGM or PNG). This
+/// is [`load`] without the file system; every failure is a [`RosMapError`].
+pub fn parse(yaml: &str, dir: &Path, image: &[u8]) -> Result<RosMap, RosMapError> {
+    decode(parse_yaml(yaml, dir)?, image)
+}
+
+/// Decodes the image bytes under `meta` into the grid.
+fn decode(mut meta: RosMeta, bytes: &[u8]) -> Result<RosMap, RosMapError> {
+    let reader = || {
+        image::ImageReader::new(std::io::Cursor::new(bytes))
+            .with_guessed_format()
+            .map_err(|e| RosMapError::Image(e.to_string()))
+    };
+    // The declared size first: a header announcing a huge image must not make the decoder
+    // allocate it.
+    let (w, h) = reader()?
+        .into_dimensions()
+        .map_err(|e| RosMapError::Image(e.to_string()))?;
+    if w == 0 || h == 0 || w > MAX_SIDE || h > MAX_SIDE {
+        return Err(RosMapError::BadSize(w, h));
+    }
+    let mut limits = image::Limits::default();
+    limits.max_image_width = Some(MAX_SIDE);
+    limits.max_image_height = Some(MAX_SIDE);
+    // 1024 x 1024 pixels of at most 16-bit RGBA, with room for the decoder's buffers.
+    limits.max_alloc = Some(64 << 20);
+    let mut r = reader()?;
+    r.limits(limits);
+    let img = r
         .decode()
         .map_err(|e| RosMapError::Image(e.to_string()))?
         .to_luma_alpha8();
-    let (w, h) = img.dimensions();
-    if w == 0 || h == 0 || w > 1024 || h > 1024 {
+    if img.dimensions() != (w, h) {
+        let (w, h) = img.dimensions();
         return Err(RosMapError::BadSize(w, h));
     }
     meta.height = h as usize;
@@ -327,6 +360,67 @@ mod tests {
         assert!(!pixel_blocked(&m, 0, 255));
         assert!(pixel_blocked(&m, 100, 255));
         assert!(pixel_blocked(&m, 255, 255));
+    }
+
+    const YAML: &str = "image: m.pgm\nresolution: 0.5\norigin: [0, 0, 0]\n";
+
+    #[test]
+    fn parses_from_bytes() {
+        // 3 x 2: white, black, ROS grey / white, white, black.
+        let mut pgm = b"P5\n3 2\n255\n".to_vec();
+        pgm.extend_from_slice(&[254, 0, 205, 254, 254, 0]);
+        let map = parse(YAML, Path::new("/maps"), &pgm).unwrap();
+        assert_eq!((map.grid.width(), map.grid.height()), (3, 2));
+        assert_eq!(map.meta.height, 2);
+        assert_eq!(map.meta.image, PathBuf::from("/maps/m.pgm"));
+        let g = map.grid.view();
+        let blocked: Vec<bool> = (0..2)
+            .flat_map(|y| (0..3).map(move |x| (x, y)))
+            .map(|(x, y)| g.is_blocked(x, y))
+            .collect();
+        assert_eq!(blocked, [false, true, true, false, false, true]);
+        // The YAML is checked before the image.
+        assert!(matches!(
+            parse(
+                "image: m\nresolution: 0\norigin: [0, 0, 0]\n",
+                Path::new("."),
+                &pgm
+            ),
+            Err(RosMapError::BadResolution)
+        ));
+    }
+
+    #[test]
+    fn bad_images_are_typed_and_never_allocated() {
+        // A header announcing 60000 x 60000 pixels with no data: refused from the header
+        // (the decoder would otherwise try to allocate 3.6 GB).
+        let huge = b"P5\n60000 60000\n255\n".to_vec();
+        assert!(matches!(
+            parse(YAML, Path::new("."), &huge),
+            Err(RosMapError::BadSize(60000, 60000))
+        ));
+        let wide = b"P5\n1025 1\n255\n".to_vec();
+        assert!(matches!(
+            parse(YAML, Path::new("."), &wide),
+            Err(RosMapError::BadSize(1025, 1))
+        ));
+        // Truncated pixel data, a bad header, not an image at all, an empty file.
+        for bytes in [
+            &b"P5\n4 4\n255\n\x00\x01"[..],
+            &b"P5\n4 x\n255\n"[..],
+            &b"hello, world"[..],
+            &b""[..],
+            &b"\x89PNG\r\n\x1a\n\x00\x00"[..],
+        ] {
+            let r = parse(YAML, Path::new("."), bytes);
+            assert!(
+                matches!(
+                    r,
+                    Err(RosMapError::Image(_)) | Err(RosMapError::BadSize(..))
+                ),
+                "{bytes:?}"
+            );
+        }
     }
 
     #[test]

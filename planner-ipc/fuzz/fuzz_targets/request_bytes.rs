@@ -1,0 +1,327 @@
+//! The planner service's request handling with arbitrary payload bytes, below the
+//! transport: what `planner-server` does with a received map frame (`MapHeader` user
+//! header + word slice -> `grid_from_bits` -> `MapStore::update`) and a received
+//! `PlanRequest` (`Engine::handle` -> `PlanResponseHeader::new` + waypoints -> the client's
+//! `decode`), plus the postcard forms a byte-stream peer decodes (`MapMsg`, `PlanRequest`,
+//! `PlanResult`).
+//!
+//! The input is a sequence of at most 8 operations (one byte each: frame, raw request,
+//! postcard frame, postcard request; a length byte before slices and postcard bytes); payloads are raw bytes reinterpreted as the
+//! `#[repr(C)]` wire types (every bit pattern is a value of these all-integer/float
+//! structs, as it is for a peer writing shared memory). Checks: no panic; every refusal is
+//! the typed error the validation rules name (kind, map, algorithm, parameters,
+//! endpoints); the response header encodes a known status and decodes back to the same
+//! result; an ok path starts and ends at the requested cell centres inside the map.
+//!
+//! Bounds for speed, not for validity: the engine takes maps of at most 32 x 32 cells (the
+//! server's configurable `max_cells`), and an accepted request's swarm population and
+//! iteration counts are reduced modulo small numbers before planning (huge counts are
+//! valid and would only make an input slow).
+#![no_main]
+
+use arbitrary::Unstructured;
+use libfuzzer_sys::fuzz_target;
+use planner_core::PlanError;
+use planner_core::path;
+use planner_ipc::engine::{Engine, MapUpdate, Scratch};
+use planner_ipc::wire::{
+    Algorithm, Failure, MapHeader, MapMsg, PlanParams, PlanRequest, PlanResponseHeader, PlanResult,
+    RequestKind, ServiceError, WireGrid, decode_status, grid_from_bits, to_cell,
+};
+use std::cell::RefCell;
+use std::collections::HashMap;
+
+const MAX_CELLS: usize = 32 * 32;
+const MAX_OPS: usize = 8;
+
+thread_local! {
+    static SCRATCH: RefCell<Scratch> = RefCell::new(Scratch::default());
+}
+
+fn u32_at(b: &[u8], i: usize) -> u32 {
+    u32::from_le_bytes(b[i..i + 4].try_into().unwrap())
+}
+
+fn u64_at(b: &[u8], i: usize) -> u64 {
+    u64::from_le_bytes(b[i..i + 8].try_into().unwrap())
+}
+
+fn f32_at(b: &[u8], i: usize) -> f32 {
+    f32::from_bits(u32_at(b, i))
+}
+
+/// Up to `n` bytes, zero-padded (a short payload is the tail of a peer's write).
+fn take<const N: usize>(u: &mut Unstructured<'_>) -> [u8; N] {
+    let mut out = [0u8; N];
+    let n = u.len().min(N);
+    out[..n].copy_from_slice(u.bytes(n).unwrap_or(&[]));
+    out
+}
+
+/// A `MapHeader` from its 32 `#[repr(C)]` bytes.
+fn map_header(b: &[u8; 32]) -> MapHeader {
+    MapHeader {
+        map_id: u32_at(b, 0),
+        version: u32_at(b, 4),
+        width: u32_at(b, 8),
+        height: u32_at(b, 12),
+        resolution: f32_at(b, 16),
+        origin: [f32_at(b, 20), f32_at(b, 24)],
+        reserved: u32_at(b, 28),
+    }
+}
+
+/// A `PlanRequest` from its 104 `#[repr(C)]` bytes (no padding in the layout).
+fn plan_request(b: &[u8; 104]) -> PlanRequest {
+    assert_eq!(std::mem::size_of::<PlanRequest>(), 104);
+    let mut extra = [0.0f32; 5];
+    for (k, e) in extra.iter_mut().enumerate() {
+        *e = f32_at(b, 84 + 4 * k);
+    }
+    PlanRequest {
+        request_id: u64_at(b, 0),
+        seed: u64_at(b, 8),
+        deadline_us: u64_at(b, 16),
+        wake_token: u64_at(b, 24),
+        polls_until_ns: u64_at(b, 32),
+        map_id: u32_at(b, 40),
+        map_version: u32_at(b, 44),
+        start: [u32_at(b, 48) as i32, u32_at(b, 52) as i32],
+        goal: [u32_at(b, 56) as i32, u32_at(b, 60) as i32],
+        algorithm: b[64],
+        kind: b[65],
+        reserved: b[66..72].try_into().unwrap(),
+        params: PlanParams {
+            radius: f32_at(b, 72),
+            population: f32_at(b, 76),
+            iterations: f32_at(b, 80),
+            extra,
+        },
+    }
+}
+
+/// What the harness knows of the store: per map id the newest version and either the base
+/// grid or the rejection.
+type Model = HashMap<u32, (u32, Result<Box<WireGrid>, ServiceError>)>;
+
+fn frame(engine: &Engine, model: &mut Model, header: &MapHeader, words: &[u32]) {
+    let (w, h) = (header.width as usize, header.height as usize);
+    let grid = grid_from_bits(header.width, header.height, words, engine.store.max_cells());
+    let needed = w.checked_mul(h);
+    match &grid {
+        Ok(g) => {
+            let cells = needed.unwrap();
+            assert!(w > 0 && h > 0 && cells <= MAX_CELLS && words.len() >= cells.div_ceil(32));
+            assert_eq!((g.width(), g.height()), (w, h));
+            let view = g.view();
+            for i in 0..cells {
+                let bit = words[i / 32] >> (i % 32) & 1 == 1;
+                assert_eq!(view.is_blocked((i % w) as isize, (i / w) as isize), bit);
+            }
+        }
+        Err(e) => {
+            let expected = if w == 0 || h == 0 {
+                ServiceError::InvalidRequest
+            } else if needed.is_none_or(|c| c > MAX_CELLS) {
+                ServiceError::MapTooLarge
+            } else {
+                ServiceError::InvalidRequest // too few words for the declared size
+            };
+            assert_eq!(*e, expected, "frame {header:?} with {} words", words.len());
+        }
+    }
+    let kept = grid.as_ref().map(|g| g.clone()).map_err(|e| *e);
+    let meta = header.meta();
+    let newer = model
+        .get(&meta.map_id)
+        .is_none_or(|(v, _)| *v < meta.version);
+    let update = engine.store.update(meta, grid);
+    match update {
+        MapUpdate::Outdated => assert!(!newer, "a newer version was ignored"),
+        MapUpdate::Stored => {
+            assert!(newer && kept.is_ok());
+        }
+        MapUpdate::Rejected(e) => {
+            assert!(newer);
+            assert_eq!(kept.as_ref().err(), Some(&e));
+        }
+    }
+    if newer {
+        // The store keeps at most 4 ids (evicting the smallest); mirror it.
+        if !model.contains_key(&meta.map_id) && model.len() >= 4 {
+            let victim = *model.keys().min().unwrap();
+            model.remove(&victim);
+        }
+        model.insert(meta.map_id, (meta.version, kept));
+    }
+}
+
+fn request(engine: &Engine, model: &Model, mut req: PlanRequest) {
+    // Keep accepted requests fast: huge swarm counts are valid but slow.
+    if req.params.validate().is_ok() {
+        req.params.population = (req.params.population as u32 % 24) as f32;
+        req.params.iterations = (req.params.iterations as u32 % 12 + 1) as f32;
+        req.params.extra[0] = (req.params.extra[0] as u32 % 8) as f32;
+        assert!(req.params.validate().is_ok());
+    }
+    let result: PlanResult =
+        SCRATCH.with(|s| engine.handle(&mut s.borrow_mut(), &req, &mut || false));
+    assert_eq!(result.request_id, req.request_id);
+
+    // The expected refusal, by the documented order of checks.
+    let expected: Option<Failure> = (|| {
+        let kind = match req.kind {
+            0 => RequestKind::Plan,
+            1 => RequestKind::MapStatus,
+            _ => return Some(ServiceError::InvalidRequest.into()),
+        };
+        let Some((version, map)) = model.get(&req.map_id) else {
+            return Some(ServiceError::UnknownMap.into());
+        };
+        if *version > req.map_version {
+            return Some(ServiceError::StaleMapVersion.into());
+        }
+        if *version < req.map_version {
+            return Some(ServiceError::UnknownMap.into());
+        }
+        if let Err(e) = map {
+            return Some((*e).into());
+        }
+        if kind == RequestKind::MapStatus {
+            return None;
+        }
+        if Algorithm::from_code(req.algorithm).is_err() {
+            return Some(ServiceError::UnknownAlgorithm.into());
+        }
+        if req.params.validate().is_err() {
+            return Some(PlanError::InvalidParameters.into());
+        }
+        None
+    })();
+    match (&expected, &result.outcome) {
+        (Some(e), outcome) => assert_eq!(outcome.as_ref().err(), Some(e), "{req:?}"),
+        (None, Err(Failure::Service(e))) => panic!("unexpected service error {e:?} for {req:?}"),
+        (None, Err(Failure::Plan(e))) => {
+            // Planner refusals are endpoint, connectivity, capacity or budget errors.
+            let (_, map) = &model[&req.map_id];
+            let g = map.as_ref().unwrap();
+            let (w, h) = (g.width() as i64, g.height() as i64);
+            let inside =
+                |xy: [i32; 2]| (0..w).contains(&(xy[0] as i64)) && (0..h).contains(&(xy[1] as i64));
+            match e {
+                PlanError::StartOutsideMap => assert!(!inside(req.start)),
+                PlanError::GoalOutsideMap => {
+                    assert!(inside(req.start) && !inside(req.goal), "{req:?} on {w}x{h}")
+                }
+                PlanError::InvalidParameters => {
+                    // Only a swarm planner's own limits (e.g. population 1) or an
+                    // inflation radius the map cannot take.
+                    let alg = Algorithm::from_code(req.algorithm).unwrap();
+                    assert!(
+                        !matches!(alg, Algorithm::AStar | Algorithm::ThetaStar)
+                            || req.params.radius != 0.0,
+                        "{req:?}"
+                    );
+                }
+                _ => {}
+            }
+        }
+        (None, Ok(ok)) => {
+            let (_, map) = &model[&req.map_id];
+            let g = map.as_ref().unwrap();
+            if req.kind == RequestKind::MapStatus as u8 {
+                assert_eq!(
+                    (ok.turns as usize, ok.evaluations as usize),
+                    (g.width(), g.height())
+                );
+                assert!(ok.path.is_empty());
+            } else {
+                let start = to_cell(req.start, PlanError::StartOutsideMap).unwrap();
+                let goal = to_cell(req.goal, PlanError::GoalOutsideMap).unwrap();
+                assert_eq!(ok.path.first(), Some(&start.center()), "{req:?}");
+                assert_eq!(ok.path.last(), Some(&goal.center()), "{req:?}");
+                assert!(ok.length.is_finite() && ok.length >= 0.0);
+                let alg = Algorithm::from_code(req.algorithm).unwrap();
+                if matches!(alg, Algorithm::AStar | Algorithm::ThetaStar) {
+                    let mut inflated = Box::new(WireGrid::new(1, 1).unwrap());
+                    g.inflate_into(req.params.radius, &mut inflated).unwrap();
+                    assert_eq!(
+                        path::validate(inflated.view(), &ok.path, start, goal),
+                        Ok(()),
+                        "{req:?}: {:?}",
+                        ok.path
+                    );
+                }
+            }
+        }
+    }
+
+    // The response as the server writes it and the client reads it.
+    let header = PlanResponseHeader::new(&req, &result);
+    assert!(
+        decode_status(header.status).is_some(),
+        "unknown status {}",
+        header.status
+    );
+    let waypoints: Vec<_> = result.waypoints().collect();
+    assert_eq!(header.waypoints as usize, waypoints.len());
+    let decoded = header.decode(&waypoints).expect("own response decodes");
+    assert_eq!(decoded.request_id, result.request_id);
+    assert_eq!(decoded.outcome, result.outcome);
+    // And in the byte-stream form.
+    let bytes = postcard::to_allocvec(&result).unwrap();
+    let back: PlanResult = postcard::from_bytes(&bytes).unwrap();
+    assert_eq!(back.outcome, result.outcome);
+}
+
+fuzz_target!(|data: &[u8]| {
+    let engine = Engine::new(MAX_CELLS, 4);
+    let mut model = Model::new();
+    let mut u = Unstructured::new(data);
+    for _ in 0..MAX_OPS {
+        if u.is_empty() {
+            break;
+        }
+        let op = u.arbitrary::<u8>().unwrap_or(0);
+        match op % 4 {
+            0 => {
+                let header = map_header(&take::<32>(&mut u));
+                // The slice length the publisher loaned, then the words (missing ones zero).
+                let n = u.arbitrary::<u8>().unwrap_or(0) % 65;
+                let words: Vec<u32> = (0..n)
+                    .map(|_| u32::from_le_bytes(take::<4>(&mut u)))
+                    .collect();
+                frame(&engine, &mut model, &header, &words);
+            }
+            1 => request(&engine, &model, plan_request(&take::<104>(&mut u))),
+            2 => {
+                let len = (u.arbitrary::<u8>().unwrap_or(0) as usize).min(u.len());
+                let bytes = u.bytes(len).unwrap_or(&[]);
+                if let Ok(msg) = postcard::from_bytes::<MapMsg>(bytes) {
+                    let header = MapHeader {
+                        map_id: msg.meta.map_id,
+                        version: msg.meta.version,
+                        width: msg.width,
+                        height: msg.height,
+                        resolution: msg.meta.resolution,
+                        origin: msg.meta.origin,
+                        reserved: 0,
+                    };
+                    // `MapMsg::to_grid` is `grid_from_bits` on the same fields.
+                    assert_eq!(
+                        msg.to_grid(MAX_CELLS).map(|g| *g),
+                        grid_from_bits(msg.width, msg.height, &msg.bits, MAX_CELLS).map(|g| *g)
+                    );
+                    frame(&engine, &mut model, &header, &msg.bits);
+                }
+            }
+            _ => {
+                let len = (u.arbitrary::<u8>().unwrap_or(0) as usize).min(u.len());
+                let bytes = u.bytes(len).unwrap_or(&[]);
+                if let Ok(req) = postcard::from_bytes::<PlanRequest>(bytes) {
+                    request(&engine, &model, req);
+                }
+            }
+        }
+    }
+});
