@@ -33,8 +33,11 @@ if ! cargo fuzz --version >/dev/null 2>&1; then
 fi
 cargo fuzz --version
 
+# One target directory for the three fuzz crates: they share planner-core and (planner-ipc,
+# host-sim) iceoryx2, which are then built once under the sanitizer flags.
+TARGET_DIR="$PWD/target/fuzz-ci"
 for dir in planner-core/fuzz planner-ipc/fuzz host-sim/fuzz; do
-    (cd "$dir" && cargo +nightly fuzz build -O)
+    (cd "$dir" && cargo +nightly fuzz build -O --target-dir "$TARGET_DIR")
 done
 for entry in "${TARGETS[@]}"; do
     dir="${entry%%:*}"
@@ -43,7 +46,7 @@ for entry in "${TARGETS[@]}"; do
     # Work on a scratch copy so that the run does not grow the committed corpus.
     scratch="$(mktemp -d)"
     cp -r "$dir/corpus/$t/." "$scratch/"
-    if ! (cd "$dir" && cargo +nightly fuzz run -O "$t" "$scratch" -- \
+    if ! (cd "$dir" && cargo +nightly fuzz run -O --target-dir "$TARGET_DIR" "$t" "$scratch" -- \
         -max_total_time="$SECONDS_PER_TARGET" -timeout=10 -rss_limit_mb=2048 \
         -print_final_stats=1 2>"$scratch.log"); then
         tail -n 60 "$scratch.log" >&2
