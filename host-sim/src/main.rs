@@ -1,6 +1,7 @@
 //! `host-sim`: the front door of the warehouse planner.
 //!
 //! Subcommands:
+//! - `demo`, `run`, `scenarios`, `soak`: the simulator (see `sim`);
 //! - `plan`: plan queries on a Moving AI `.map` and print one JSON object a line;
 //! - `optimize`: run a swarm optimizer on benchmark functions (JSON statistics);
 //! - `bench paper|movingai|speed`: the papers' tables, quality and speed benchmarks;
@@ -11,7 +12,9 @@ use clap::{Parser, Subcommand};
 
 mod cmd;
 mod maps;
+mod mapsrc;
 mod render;
+mod sim;
 mod validate;
 
 #[derive(Parser)]
@@ -27,6 +30,15 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
+    /// The demo: a 40x40 warehouse, TCLHHO global paths, a robot driven with DWA among
+    /// people and robots; pictures and a JSON report in bench-out/demo.
+    Demo(cmd::sim::DemoArgs),
+    /// Simulate one mission on any map (.map, ROS .yaml) or a generated warehouse.
+    Run(cmd::sim::RunArgs),
+    /// The hard cases of the simulator; exit status 1 if one fails.
+    Scenarios(cmd::sim::ScenariosArgs),
+    /// Many random missions on generated warehouses with dynamic obstacles.
+    Soak(cmd::sim::SoakArgs),
     /// Plan paths on a map; one JSON object per query.
     Plan(cmd::plan::PlanArgs),
     /// Run a swarm optimizer on a benchmark function and print JSON statistics.
@@ -42,6 +54,10 @@ enum Command {
 
 fn main() -> anyhow::Result<()> {
     match Cli::parse().command {
+        Command::Demo(args) => cmd::sim::demo(&args),
+        Command::Run(args) => cmd::sim::run(&args),
+        Command::Scenarios(args) => cmd::sim::scenarios(&args),
+        Command::Soak(args) => cmd::sim::soak(&args),
         Command::Plan(args) => cmd::plan::run(&args),
         Command::Optimize(args) => cmd::optimize::run(&args),
         Command::Bench(args) => cmd::bench::run(&args),

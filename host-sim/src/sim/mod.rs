@@ -1,0 +1,16 @@
+//! The simulator: a differential-drive robot driven by the DWA local planner along global
+//! paths, among static shelves and dynamic obstacles (people, other robots), with replanning
+//! through a [`planner::GlobalPlanner`].
+//!
+//! - [`kinematics`]: differential drive with limits;
+//! - [`world`]: people and robots moving along aisles (scripted and random);
+//! - [`mission`]: one mission and its measurements;
+//! - [`scenarios`]: the hard cases (`host-sim scenarios`, `tests/scenarios.rs`);
+//! - [`report`]: pictures and JSON.
+
+pub mod kinematics;
+pub mod mission;
+pub mod planner;
+pub mod report;
+pub mod scenarios;
+pub mod world;
