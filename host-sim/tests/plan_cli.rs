@@ -151,9 +151,24 @@ fn malformed_map_is_a_clear_error() {
 #[test]
 fn every_planner_returns_a_valid_path_with_its_figures() {
     let map = data("warehouse-10-20-10-2-1.map");
-    for algo in ["astar", "theta", "aco", "tclhho", "igwo", "hho", "gwo", "tgwo", "pso", "ga", "ssa", "ssagwo"] {
+    for algo in [
+        "astar", "theta", "aco", "tclhho", "igwo", "hho", "gwo", "tgwo", "pso", "ga", "ssa",
+        "ssagwo",
+    ] {
         let out = host_sim(&[
-            "plan", "--map", map.to_str().unwrap(), "--start", "134,28", "--goal", "91,6", "--algo", algo, "--iters", "60", "--seed", "3",
+            "plan",
+            "--map",
+            map.to_str().unwrap(),
+            "--start",
+            "134,28",
+            "--goal",
+            "91,6",
+            "--algo",
+            algo,
+            "--iters",
+            "60",
+            "--seed",
+            "3",
         ]);
         let r = &lines(&out)[0];
         assert!(r.get("error").is_none(), "{algo}: {r}");
@@ -163,11 +178,25 @@ fn every_planner_returns_a_valid_path_with_its_figures() {
         assert!(length > 48.3 && length < 65.0 * 1.3, "{algo}: {length}");
         if algo != "astar" && algo != "theta" {
             assert!(r["evaluations"].as_u64().unwrap() > 0, "{algo}");
-            assert!(r["final_cost"].as_f64().unwrap() <= r["initial_cost"].as_f64().unwrap_or(f64::INFINITY), "{algo}");
+            assert!(
+                r["final_cost"].as_f64().unwrap()
+                    <= r["initial_cost"].as_f64().unwrap_or(f64::INFINITY),
+                "{algo}"
+            );
         }
         assert_eq!(r["algo"], algo);
     }
-    let out = host_sim(&["plan", "--map", map.to_str().unwrap(), "--start", "1,1", "--goal", "2,2", "--algo", "dijkstra"]);
+    let out = host_sim(&[
+        "plan",
+        "--map",
+        map.to_str().unwrap(),
+        "--start",
+        "1,1",
+        "--goal",
+        "2,2",
+        "--algo",
+        "dijkstra",
+    ]);
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("unknown planner"));
 }
@@ -185,13 +214,29 @@ fn swarm_planners_report_the_right_errors_on_a_real_warehouse() {
     let dir = std::env::temp_dir().join(format!("host-sim-walled-wh-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let map = dir.join("walled.map");
-    std::fs::write(&map, rows.join(&b'\n').iter().copied().chain([b'\n']).collect::<Vec<u8>>()).unwrap();
+    std::fs::write(
+        &map,
+        rows.join(&b'\n')
+            .iter()
+            .copied()
+            .chain([b'\n'])
+            .collect::<Vec<u8>>(),
+    )
+    .unwrap();
     let queries = dir.join("q.txt");
     // unreachable, start on a shelf border, goal outside, start == goal
     std::fs::write(&queries, "1 1 91 6\n0 0 91 6\n91 6 500 6\n91 6 91 6\n").unwrap();
     for algo in ["tclhho", "igwo", "aco"] {
         let out = host_sim(&[
-            "plan", "--map", map.to_str().unwrap(), "--queries", queries.to_str().unwrap(), "--algo", algo, "--iters", "30",
+            "plan",
+            "--map",
+            map.to_str().unwrap(),
+            "--queries",
+            queries.to_str().unwrap(),
+            "--algo",
+            algo,
+            "--iters",
+            "30",
         ]);
         let rows = lines(&out);
         assert_eq!(rows[0]["error"], "NoValidPath", "{algo}");
@@ -207,11 +252,28 @@ fn movingai_bench_validates_every_path_independently() {
     let dir = std::env::temp_dir().join(format!("host-sim-bench-mai-{}", std::process::id()));
     let data_dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../tests/data/movingai");
     let out = host_sim(&[
-        "bench", "movingai", "--data", data_dir.to_str().unwrap(), "--rows", "6", "--iters", "60", "--algos", "theta,tclhho,igwo",
-        "--maps", "warehouse-10-20-10-2-1,warehouse-20-40-10-2-2", "--out", dir.to_str().unwrap(),
+        "bench",
+        "movingai",
+        "--data",
+        data_dir.to_str().unwrap(),
+        "--rows",
+        "6",
+        "--iters",
+        "60",
+        "--algos",
+        "theta,tclhho,igwo",
+        "--maps",
+        "warehouse-10-20-10-2-1,warehouse-20-40-10-2-2",
+        "--out",
+        dir.to_str().unwrap(),
     ]);
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    let summary: Value = serde_json::from_str(&std::fs::read_to_string(dir.join("movingai.json")).unwrap()).unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let summary: Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("movingai.json")).unwrap()).unwrap();
     for s in summary.as_array().unwrap() {
         assert_eq!(s["valid"], s["rows"], "{s}");
         assert!(s["max_ratio"].as_f64().unwrap() <= 1.02, "{s}");

@@ -350,7 +350,11 @@ impl Range {
     /// Min-max normalisation; 0 when the term is constant over the window.
     fn norm(&self, v: f32) -> f32 {
         let span = self.hi - self.lo;
-        if span > 1e-9 { (v - self.lo) / span } else { 0.0 }
+        if span > 1e-9 {
+            (v - self.lo) / span
+        } else {
+            0.0
+        }
     }
 }
 
@@ -972,7 +976,9 @@ mod tests {
             v: 0.5,
             w: 0.0,
         };
-        let cmd = dwa.step(&s, g.view(), &[], &[Point::new(4.0, 10.0)]).unwrap();
+        let cmd = dwa
+            .step(&s, g.view(), &[], &[Point::new(4.0, 10.0)])
+            .unwrap();
         assert!(cmd.v < s.v, "{cmd:?}");
     }
 
@@ -1020,7 +1026,10 @@ mod tests {
         // The map edge counts.
         let d = point_clearance(g.view(), Point::new(0.0, 5.0), 5.0);
         assert!((d - 0.5).abs() < 1e-5);
-        assert_eq!(point_clearance(g.view(), Point::new(f32::NAN, 5.0), 5.0), 0.0);
+        assert_eq!(
+            point_clearance(g.view(), Point::new(f32::NAN, 5.0), 5.0),
+            0.0
+        );
     }
 
     #[test]

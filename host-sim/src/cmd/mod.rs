@@ -4,5 +4,5 @@ pub mod bench;
 pub mod maps;
 pub mod optimize;
 pub mod plan;
-pub mod sim;
 pub mod render_demo;
+pub mod sim;

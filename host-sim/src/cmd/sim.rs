@@ -476,8 +476,26 @@ pub fn soak(args: &SoakArgs) -> anyhow::Result<()> {
     std::fs::create_dir_all(&args.out)?;
     write_json(&args.out.join("report.json"), &summary)?;
     print_table(
-        &format!("Soak: {} missions on generated warehouses ({}, DWA)", results.len(), args.algo.name()),
-        &["success", "rate", "unreachable", "timeouts", "coll. static", "coll. dynamic", "mean time s", "driven/planned", "RMS xte", "min clr static", "replans", "stuck", "osc."],
+        &format!(
+            "Soak: {} missions on generated warehouses ({}, DWA)",
+            results.len(),
+            args.algo.name()
+        ),
+        &[
+            "success",
+            "rate",
+            "unreachable",
+            "timeouts",
+            "coll. static",
+            "coll. dynamic",
+            "mean time s",
+            "driven/planned",
+            "RMS xte",
+            "min clr static",
+            "replans",
+            "stuck",
+            "osc.",
+        ],
         &[vec![
             ok.to_string(),
             format!("{:.1}%", 100.0 * rate),
@@ -485,10 +503,19 @@ pub fn soak(args: &SoakArgs) -> anyhow::Result<()> {
             timeouts.to_string(),
             cs.to_string(),
             cd.to_string(),
-            fmt(summary["mean_time_to_goal_s"].as_f64().unwrap_or(f64::NAN), 1),
+            fmt(
+                summary["mean_time_to_goal_s"].as_f64().unwrap_or(f64::NAN),
+                1,
+            ),
             fmt(summary["mean_length_ratio"].as_f64().unwrap_or(f64::NAN), 3),
-            fmt(summary["mean_rms_cross_track"].as_f64().unwrap_or(f64::NAN), 3),
-            fmt(summary["min_clearance_static"].as_f64().unwrap_or(f64::NAN), 3),
+            fmt(
+                summary["mean_rms_cross_track"].as_f64().unwrap_or(f64::NAN),
+                3,
+            ),
+            fmt(
+                summary["min_clearance_static"].as_f64().unwrap_or(f64::NAN),
+                3,
+            ),
             summary["replans"].to_string(),
             summary["stuck_events"].to_string(),
             summary["oscillation_events"].to_string(),
@@ -496,7 +523,10 @@ pub fn soak(args: &SoakArgs) -> anyhow::Result<()> {
     );
     println!("report: {}", args.out.join("report.json").display());
     if rate < args.min_success || cs > 0 {
-        bail!("soak below target: success {:.1}%, {cs} static collisions", 100.0 * rate);
+        bail!(
+            "soak below target: success {:.1}%, {cs} static collisions",
+            100.0 * rate
+        );
     }
     Ok(())
 }

@@ -164,7 +164,8 @@ fn default_free() -> f64 {
 
 /// Parses the YAML text; `dir` resolves a relative image path.
 pub fn parse_yaml(text: &str, dir: &Path) -> Result<RosMeta, RosMapError> {
-    let raw: RawYaml = serde_saphyr::from_str(text).map_err(|e| RosMapError::Yaml(e.to_string()))?;
+    let raw: RawYaml =
+        serde_saphyr::from_str(text).map_err(|e| RosMapError::Yaml(e.to_string()))?;
     if !(raw.resolution.is_finite() && raw.resolution > 0.0) {
         return Err(RosMapError::BadResolution);
     }
@@ -267,8 +268,8 @@ mod tests {
 
     #[test]
     fn parses_fields_and_defaults() {
-        let m = meta("image: a.pgm\nresolution: 0.05\norigin: [-1.0, 2.5, 0.0]\nnegate: 1\n")
-            .unwrap();
+        let m =
+            meta("image: a.pgm\nresolution: 0.05\norigin: [-1.0, 2.5, 0.0]\nnegate: 1\n").unwrap();
         assert_eq!(m.image, PathBuf::from("/maps/a.pgm"));
         assert!(m.negate);
         assert_eq!(m.mode, Mode::Trinary);

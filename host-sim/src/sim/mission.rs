@@ -235,7 +235,9 @@ pub fn run_with_progress(
         }
     };
     result.planned_length = path.length;
-    result.plans.push(record("initial", 0.0, &path, spec.record));
+    result
+        .plans
+        .push(record("initial", 0.0, &path, spec.record));
     let Ok(mut dwa) = Dwa::new(spec.dwa) else {
         result.outcome = Outcome::PlanFailed("invalid DWA configuration".into());
         return result;

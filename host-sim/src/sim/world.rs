@@ -165,7 +165,13 @@ impl World {
     }
 
     /// Adds `count` random movers of `kind` at free cells away from `keep_clear`.
-    pub fn add_random(&mut self, grid: GridRef<'_>, kind: Kind, count: usize, keep_clear: &[Point]) {
+    pub fn add_random(
+        &mut self,
+        grid: GridRef<'_>,
+        kind: Kind,
+        count: usize,
+        keep_clear: &[Point],
+    ) {
         for _ in 0..count {
             let mut at = None;
             for _ in 0..50 {
@@ -213,7 +219,11 @@ impl World {
             let (dx, dy) = (target.x - a.pos.x, target.y - a.pos.y);
             let d = (dx * dx + dy * dy).sqrt();
             let step = a.speed * dt;
-            let (ux, uy) = if d > 1e-6 { (dx / d, dy / d) } else { (0.0, 0.0) };
+            let (ux, uy) = if d > 1e-6 {
+                (dx / d, dy / d)
+            } else {
+                (0.0, 0.0)
+            };
             // Yield to the robot: would the next 0.6 cells bring us within reach?
             let ahead = Point::new(a.pos.x + ux * 0.6, a.pos.y + uy * 0.6);
             let reach = a.radius + robot.1 + 0.15;

@@ -284,7 +284,7 @@ pub fn run(args: &PaperArgs) -> anyhow::Result<()> {
 /// convergence curve (best cost per iteration) of each algorithm's best run. Costs that still
 /// carry an infeasibility penalty are left out of the curves (a gap until feasible).
 fn figures(case: &Case, runs: &[Run], out: &std::path::Path) -> anyhow::Result<()> {
-    use crate::render::{convergence_plot, Layer, MapPicture, Series, Style};
+    use crate::render::{Layer, MapPicture, Series, Style, convergence_plot};
     use planner_core::geometry::Point;
     let penalty = planner_core::encoding::infeasible_penalty(case.grid.view());
     let mut algos: Vec<&str> = Vec::new();
@@ -305,12 +305,23 @@ fn figures(case: &Case, runs: &[Run], out: &std::path::Path) -> anyhow::Result<(
         .collect();
     let paths: Vec<(String, Vec<Point>)> = best
         .iter()
-        .filter_map(|(a, r)| r.map(|r| (format!("{a} (L = {:.2})", r.length), r.path.iter().map(|p| Point::new(p[0], p[1])).collect())))
+        .filter_map(|(a, r)| {
+            r.map(|r| {
+                (
+                    format!("{a} (L = {:.2})", r.length),
+                    r.path.iter().map(|p| Point::new(p[0], p[1])).collect(),
+                )
+            })
+        })
         .collect();
     let title = format!("{}: best path of each algorithm", case.name);
     let mut picture = MapPicture::new(case.grid.view(), &title);
     for (i, (label, points)) in paths.iter().enumerate() {
-        let style = if i % 2 == 1 { Style::dashed(Style::palette(i).color, 2.5) } else { Style::palette(i) };
+        let style = if i % 2 == 1 {
+            Style::dashed(Style::palette(i).color, 2.5)
+        } else {
+            Style::palette(i)
+        };
         picture.layers.push(Layer::new(label, points, style));
     }
     picture.start = Some(case.start.center());
@@ -320,7 +331,15 @@ fn figures(case: &Case, runs: &[Run], out: &std::path::Path) -> anyhow::Result<(
     let curves: Vec<(String, Vec<f32>)> = best
         .iter()
         .filter_map(|(a, r)| {
-            r.map(|r| (a.to_string(), r.history.iter().map(|&v| if v < penalty { v } else { f32::NAN }).collect()))
+            r.map(|r| {
+                (
+                    a.to_string(),
+                    r.history
+                        .iter()
+                        .map(|&v| if v < penalty { v } else { f32::NAN })
+                        .collect(),
+                )
+            })
         })
         .collect();
     let series: Vec<Series> = curves.iter().map(|(a, v)| Series::new(a, v)).collect();
