@@ -6,16 +6,15 @@
 //! - `optimize`: run a swarm optimizer on benchmark functions (JSON statistics);
 //! - `bench paper|movingai|speed`: the papers' tables, quality and speed benchmarks;
 //! - `maps`: write the seed-style maps as `.map` files.
+//! - `terrain`: 3D terrain planning, seed 001's experiments 1-3 (tables 2-7) and a benchmark.
 //! - `render-demo` (hidden): write example pictures (see `render`) into `target/render-demo/`.
 
 use clap::{Parser, Subcommand};
 
 mod cmd;
-mod maps;
-mod mapsrc;
-mod render;
-mod sim;
-mod validate;
+
+// The library's modules, bound at the crate root so `crate::maps` etc. resolve in `cmd`.
+use host_sim::{maps, mapsrc, render, sim, validate};
 
 #[derive(Parser)]
 #[command(
@@ -47,6 +46,8 @@ enum Command {
     Bench(cmd::bench::BenchArgs),
     /// Write the seed-style maps of the papers as Moving AI `.map` files.
     Maps(cmd::maps::MapsArgs),
+    /// 3D terrain planning (seed 001): experiments 1-3 (tables 2-7), pictures, benchmark.
+    Terrain(cmd::terrain::TerrainArgs),
     /// Write example pictures (maps, terrain, convergence) to look at the renderer.
     #[command(hide = true)]
     RenderDemo(cmd::render_demo::RenderDemoArgs),
@@ -62,6 +63,7 @@ fn main() -> anyhow::Result<()> {
         Command::Optimize(args) => cmd::optimize::run(&args),
         Command::Bench(args) => cmd::bench::run(&args),
         Command::Maps(args) => cmd::maps::run(&args),
+        Command::Terrain(args) => cmd::terrain::run(&args),
         Command::RenderDemo(args) => cmd::render_demo::run(&args),
     }
 }

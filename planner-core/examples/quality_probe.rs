@@ -1,8 +1,9 @@
 //! Probe: corridor-encoded planners vs A* / Theta* on Moving AI scenario rows.
 //! cargo run --release -p planner-core --example quality_probe -- MAP SCEN ROWS ALGO ITERS [STAG] [RADIUS] [SPACING]
+use planner_core::encoding::corridor::Station;
 use planner_core::geometry::Cell;
 use planner_core::grid::{Grid, words_for};
-use planner_core::optim::any::AlgorithmKind;
+use planner_core::optim::any::{AlgorithmKind, AnyOptimizer};
 use planner_core::path::{Path, validate};
 use planner_core::planner::{PlanParams, Workspace, plan};
 use planner_core::search::{SearchNode, astar, theta};
@@ -61,14 +62,16 @@ fn main() {
             nodes: &mut nodes,
             guide: &mut *guide,
             visited: &mut visited,
+            stations: &mut [Station::EMPTY; 64],
         };
         let t0 = Instant::now();
-        let r = plan::<30, 64>(
+        let r = plan(
             grid.view(),
             s,
             g,
             &params,
             &mut ws,
+            &mut AnyOptimizer::<30, 64>::unconfigured(),
             &mut *p,
             &mut [],
             &mut || false,

@@ -252,7 +252,11 @@ impl<const WORDS: usize> Grid<WORDS> {
         *out = Grid::new(self.width, self.height)?;
         // Offsets (dx, dy) whose squares lie closer than `radius`: the gap between two unit
         // squares whose centres differ by d is max(|d| - 1, 0) on each axis.
-        let reach = libm::ceilf(radius) as isize;
+        // Offsets are capped at one past the longer side: a longer one lands outside the map,
+        // and so does the capped offset, which is closer. Without the cap a huge finite
+        // radius (1e30) made the scan loop for ever.
+        let cap = self.width.max(self.height) as isize + 1;
+        let reach = (libm::ceilf(radius) as isize).min(cap);
         let view = self.view();
         for y in 0..self.height as isize {
             for x in 0..self.width as isize {

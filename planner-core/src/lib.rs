@@ -26,6 +26,7 @@ pub mod math;
 pub mod optim;
 pub mod path;
 pub mod search;
+pub mod terrain;
 
 pub use error::{GridError, MapError, PlanError};
 pub use geometry::{Cell, Point};

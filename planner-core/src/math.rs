@@ -1,11 +1,47 @@
 //! Scalar maths shared by the crate, so that a faster target-specific routine can replace
 //! a `libm` one in a single place without changing results.
 
-/// Square root. `libm::sqrtf` is correctly rounded, so a hardware `VSQRT.F32` (also
-/// correctly rounded, IEEE 754) may replace it without changing any result.
+/// Square root, correctly rounded (IEEE 754), the single square root of the crate.
+///
+/// On hard-float ARM targets (`thumbv7em-none-eabihf`: Cortex-M4F/M7F) this is the FPU's
+/// `VSQRT.F32`; elsewhere, and with the feature `soft-sqrt`, `libm::sqrtf`. Both are
+/// correctly rounded, so results are bit-identical either way (the firmware digest is
+/// checked with and without it).
 #[inline]
 pub fn sqrt(x: f32) -> f32 {
-    libm::sqrtf(x)
+    #[cfg(all(target_arch = "arm", target_abi = "eabihf", not(feature = "soft-sqrt")))]
+    {
+        vsqrt(x)
+    }
+    #[cfg(not(all(target_arch = "arm", target_abi = "eabihf", not(feature = "soft-sqrt"))))]
+    {
+        libm::sqrtf(x)
+    }
+}
+
+/// `VSQRT.F32` on a hard-float ARM core. The value goes in and out through a core register
+/// (`vmov`): an `f32` operand in an FPU register class needs the double-precision FPU on
+/// thumbv7em, which the Cortex-M4F does not have.
+#[cfg(all(target_arch = "arm", target_abi = "eabihf", not(feature = "soft-sqrt")))]
+#[allow(unsafe_code)]
+#[inline]
+fn vsqrt(x: f32) -> f32 {
+    let mut bits = x.to_bits();
+    // SAFETY: the `eabihf` ABI guarantees a single-precision FPU, so VMOV and VSQRT.F32 are
+    // valid instructions. The block reads and writes only `bits` (a core register) and `s0`,
+    // which is declared clobbered; it touches no memory and no stack, and VSQRT has no side
+    // effect beyond the FPSCR cumulative flags (which Rust code never reads).
+    unsafe {
+        core::arch::asm!(
+            "vmov s0, {v}",
+            "vsqrt.f32 s0, s0",
+            "vmov {v}, s0",
+            v = inout(reg) bits,
+            out("s0") _,
+            options(pure, nomem, nostack),
+        );
+    }
+    f32::from_bits(bits)
 }
 
 /// `floor` for values well inside the `isize` range (coordinates on a map), without the

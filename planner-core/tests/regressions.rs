@@ -175,3 +175,20 @@ fn segment_clearance_is_zero_off_the_map() {
 fn search_node_stays_24_bytes() {
     assert_eq!(core::mem::size_of::<planner_core::search::SearchNode>(), 24);
 }
+
+/// Found by the `search_inflate` fuzz target: `inflate_into` scanned `ceil(radius)` cells
+/// in every direction, so a huge finite radius (1e30) looped for ever. Offsets beyond the
+/// map's longer side now stop there (they land outside the map, which is blocked anyway),
+/// and a huge radius blocks every cell, as the border is within reach of all of them.
+#[test]
+fn inflate_with_a_huge_radius_terminates_and_blocks_everything() {
+    let g = Grid::<{ words_for(6, 4) }>::parse_rows(b"......\n......\n......\n......\n").unwrap();
+    let mut out = Grid::<{ words_for(6, 4) }>::new(1, 1).unwrap();
+    for radius in [1e30f32, f32::MAX, 1e6, 7.5] {
+        g.inflate_into(radius, &mut out).unwrap();
+        assert_eq!(out.view().blocked_count(), 24, "radius {radius}");
+    }
+    // A radius of one cell blocks exactly the border ring (outside the map is blocked).
+    g.inflate_into(1.0, &mut out).unwrap();
+    assert_eq!(out.view().blocked_count(), 6 * 4 - 4 * 2);
+}

@@ -6,3 +6,4 @@ pub mod optimize;
 pub mod plan;
 pub mod render_demo;
 pub mod sim;
+pub mod terrain;

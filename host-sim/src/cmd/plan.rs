@@ -23,6 +23,7 @@ use planner_core::path::{Path, PathView};
 use planner_core::planner::aco::AcoParams;
 use planner_core::planner::owned::HostPlanner;
 use planner_core::planner::{EncodingKind, InitKind, PlanParams, PlannerKind};
+use planner_ipc::jsonl;
 use serde_json::{Value, json};
 use std::io::{BufWriter, Write};
 use std::path::PathBuf;
@@ -323,67 +324,27 @@ fn to_cell((x, y): (i64, i64)) -> Option<Cell> {
     Some(Cell::new(u16::try_from(x).ok()?, u16::try_from(y).ok()?))
 }
 
-/// A coordinate as JSON: integral values print as integers (cell centres).
-fn coord(v: f32) -> Value {
-    if v.fract() == 0.0 && v.abs() < 1e9 {
-        json!(v as i64)
-    } else {
-        num(v)
-    }
-}
-
-/// An `f32` as the shortest decimal that reads back to it (not its `f64` expansion).
-pub fn num(v: f32) -> Value {
-    v.to_string()
-        .parse::<f64>()
-        .map_or(Value::Null, |x| json!(x))
-}
-
-/// Microseconds rounded to 0.1 µs.
-fn micros(t: f64) -> Value {
-    json!((t * 10.0).round() / 10.0)
-}
-
-/// The JSON line of one query.
+/// The JSON line of one query (the format lives in `planner_ipc::jsonl`, shared with
+/// `planner-client`).
 pub fn outcome_json(kind: PlannerKind, seed: u64, query: Query, outcome: &Outcome) -> Value {
-    let mut map = serde_json::Map::new();
-    map.insert("start".into(), json!([query.start.0, query.start.1]));
-    map.insert("goal".into(), json!([query.goal.0, query.goal.1]));
-    match &outcome.result {
-        Ok(s) => {
-            map.insert(
-                "path".into(),
-                Value::Array(
-                    s.path
-                        .iter()
-                        .map(|p| json!([coord(p[0]), coord(p[1])]))
-                        .collect(),
-                ),
-            );
-            map.insert("length".into(), num(s.outcome.length));
-            map.insert("time_us".into(), micros(outcome.time_us));
-            map.insert("turns".into(), json!(s.outcome.turns));
-            if let Some(e) = s.outcome.expanded {
-                map.insert("expanded".into(), json!(e));
-            }
-            if let Some(r) = &s.outcome.report {
-                map.insert("evaluations".into(), json!(r.evaluations));
-                map.insert("iterations".into(), json!(r.iterations));
-                map.insert("best_iteration".into(), json!(r.best_iteration));
-                map.insert("initial_cost".into(), num(r.initial_cost));
-                map.insert("final_cost".into(), num(r.final_cost));
-                map.insert("dimension".into(), json!(r.dimension));
-                map.insert("stop".into(), json!(r.stop.name()));
-            }
-        }
-        Err(e) => {
-            map.insert("error".into(), json!(e.name()));
-            map.insert("time_us".into(), micros(outcome.time_us));
-        }
-    }
-    map.insert("algo".into(), json!(kind.name()));
-    map.insert("seed".into(), json!(seed));
-    Value::Object(map)
+    let result = match &outcome.result {
+        Ok(s) => Ok(jsonl::PathLine {
+            path: &s.path,
+            length: s.outcome.length,
+            turns: s.outcome.turns,
+            expanded: s.outcome.expanded,
+            report: s.outcome.report.as_ref(),
+        }),
+        Err(e) => Err(e.name()),
+    };
+    jsonl::plan_line(
+        query.start,
+        query.goal,
+        result,
+        outcome.time_us,
+        kind.name(),
+        seed,
+    )
 }
 
 /// Runs `host-sim plan`.

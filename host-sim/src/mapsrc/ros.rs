@@ -181,9 +181,11 @@ pub fn parse_yaml(text: &str, dir: &Path) -> Result<RosMeta, RosMapError> {
         Some(Negate::Text(t)) => return Err(RosMapError::BadNegate(t)),
     };
     let (occ, free) = (raw.occupied_thresh, raw.free_thresh);
-    if !(occ.is_finite() && free.is_finite() && (0.0..=1.0).contains(&occ))
-        || !(0.0..=1.0).contains(&free)
-        || free >= occ
+    if !(occ.is_finite()
+        && free.is_finite()
+        && (0.0..=1.0).contains(&occ)
+        && (0.0..=1.0).contains(&free)
+        && free < occ)
     {
         return Err(RosMapError::BadThresholds);
     }

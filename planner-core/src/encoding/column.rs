@@ -44,6 +44,19 @@ impl<'g> ColumnEncoding<'g> {
         libm::roundf(v).max(0.0).min(max) as u16
     }
 
+    /// The two parts of the cost: the path length and the number of blocked cells (or cells
+    /// off the map) its segments touch, each segment counting its own cells; the cost is
+    /// `length + penalty * blocked`. For cross-checks of other implementations (the
+    /// `column_cost` example).
+    pub fn length_and_blocked(&self, x: &[f32]) -> (f32, u32) {
+        self.walk(x, |_| Ok(())).unwrap_or((f32::INFINITY, 0))
+    }
+
+    /// The penalty per blocked cell, [`infeasible_penalty`] of the map.
+    pub fn penalty(&self) -> f32 {
+        self.penalty
+    }
+
     /// Visits the path's vertices; returns (length, blocked cells touched).
     fn walk(
         &self,
@@ -86,10 +99,8 @@ impl Encoding for ColumnEncoding<'_> {
     }
 
     fn cost(&mut self, x: &[f32]) -> f32 {
-        match self.walk(x, |_| Ok(())) {
-            Ok((length, blocked)) => length + self.penalty * blocked as f32,
-            Err(_) => f32::INFINITY,
-        }
+        let (length, blocked) = self.length_and_blocked(x);
+        length + self.penalty * blocked as f32
     }
 
     fn decode(&mut self, x: &[f32], out: &mut PathView) -> Result<(), PlanError> {
@@ -138,6 +149,10 @@ mod tests {
         let mut enc = ColumnEncoding::new(g.view(), Cell::new(0, 0), Cell::new(3, 3)).unwrap();
         let through = [0.0, 2.0, 3.0, 3.0]; // (0,0)->(1,2) touches (1,1)? it passes x=0.5 at y=1.
         assert!(enc.cost(&through) > infeasible_penalty(g.view()));
+        let (length, blocked) = enc.length_and_blocked(&through);
+        assert_eq!(blocked, 1); // (0,0)->(0,0), (0,0)->(1,2) touches (1,1), then free
+        assert_eq!(enc.penalty(), infeasible_penalty(g.view()));
+        assert_eq!(enc.cost(&through), length + enc.penalty() * blocked as f32);
         let mut p: Path<16> = Path::new();
         assert_eq!(
             enc.decode(&through, &mut p),

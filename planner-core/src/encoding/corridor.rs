@@ -40,6 +40,18 @@ pub struct Station {
     arc_to_next: f32,
 }
 
+impl Station {
+    /// An unused station (for array and `static` initialisers).
+    pub const EMPTY: Station = Station {
+        index: 0,
+        point: Point::new(0.0, 0.0),
+        normal: (0.0, 0.0),
+        neg: 0.0,
+        pos: 0.0,
+        arc_to_next: 0.0,
+    };
+}
+
 /// Step of the extent scan along a normal, in cells.
 const EXTENT_STEP: f32 = 0.25;
 
@@ -73,25 +85,32 @@ impl<'a> CorridorEncoding<'a> {
             return Err(PlanError::InvalidParameters);
         }
         let last = guide.len() - 1;
-        // Candidate stations: every bend of the guide (where length is won by cutting the
-        // corner) and evenly spaced points on runs longer than `spacing`.
+        // Candidate stations: the turning points of the guide pulled taut (a forward greedy
+        // line-of-sight pass: a key is the last guide point visible from the previous key),
+        // which is where length is won by cutting corners, plus evenly spaced points on runs
+        // longer than `spacing`. (Every bend of the stair-stepped A* route would give many
+        // variables that matter little.)
         let candidates = |emit: &mut dyn FnMut(usize)| {
-            let mut run_start = 0usize;
-            for i in 1..=last {
-                let bend = i < last && !same_heading(guide[i - 1], guide[i], guide[i + 1]);
-                if bend || i == last {
-                    let run = guide[run_start].distance(guide[i]);
-                    let extra = libm::ceilf(run / spacing) as usize;
-                    let steps = i - run_start;
-                    for e in 1..extra.min(steps) {
-                        emit(run_start + e * steps / extra.min(steps));
-                    }
-                    if bend {
-                        emit(i);
-                    }
-                    run_start = i;
+            let spaced = |from: usize, to: usize, emit: &mut dyn FnMut(usize)| {
+                let extra = libm::ceilf(guide[from].distance(guide[to]) / spacing) as usize;
+                let steps = to - from;
+                for e in 1..extra.min(steps) {
+                    emit(from + e * steps / extra.min(steps));
                 }
+            };
+            let mut anchor = 0usize;
+            let mut i = 1usize;
+            while i < last {
+                if segment_is_clear(grid, guide[anchor], guide[i + 1]) {
+                    i += 1;
+                    continue;
+                }
+                spaced(anchor, i, emit);
+                emit(i);
+                anchor = i;
+                i = anchor + 1;
             }
+            spaced(anchor, last, emit);
         };
         let mut count = 0usize;
         candidates(&mut |_| count += 1);
@@ -240,12 +259,6 @@ impl Encoding for CorridorEncoding<'_> {
         }
         Ok(())
     }
-}
-
-/// Whether `a -> b -> c` keeps its heading (no bend at `b`).
-fn same_heading(a: Point, b: Point, c: Point) -> bool {
-    let (u, v) = ((b.x - a.x, b.y - a.y), (c.x - b.x, c.y - b.y));
-    u.0 * v.1 - u.1 * v.0 == 0.0 && u.0 * v.0 + u.1 * v.1 > 0.0
 }
 
 #[cfg(test)]

@@ -6,7 +6,17 @@
 //! replaces the hawk unless it improves). Differences from `HHO.m`, all asked by SPEC: every
 //! new position is clamped and evaluated at once (so the rabbit follows every improving
 //! evaluation and the final moves are not lost), and the hawk's cost is cached instead of being
-//! re-evaluated in the dive comparisons.
+//! re-evaluated in the dive comparisons. `Z` is built from the unclamped `Y`, as in `HHO.m`.
+//! The Levy factor defaults to the paper's 0.01 (eq. 9, SPEC); `HHO.m`'s `Levy` has none
+//! (factor 1, [`HhoParams::levy_scale`]): on the shifted 30-D sphere the two give the same
+//! median.
+//!
+//! mealpy's `OriginalHHO` is not `HHO.m`: it takes `X_m` as the mean of *all* coordinates of
+//! all hawks (a scalar, `np.mean` without an axis), updates synchronously with a greedy
+//! selection of the whole population, and scales the Levy dive by `S ~ U(lb, ub)`. Its better
+//! median on the sphere shifted to `(37.5, ..., 37.5)` comes from the scalar mean, which
+//! exploits an optimum whose coordinates are all equal (it does not help when they differ);
+//! see `host-sim/bench/mealpy_vs_ours.sh`.
 //!
 //! TCLHHO is HHO with [`HhoParams::tclhho`]: Tent initialisation, exponential escape energy
 //! (`a = 1.2`), and the Cauchy / opposition mutation of the rabbit once per iteration.
@@ -300,6 +310,9 @@ impl<const N: usize, const D: usize> Hho<N, D> {
     ) {
         let j = 2.0 * (1.0 - self.swarm.rng.unit());
         self.dive_target(i, e, j, from_mean);
+        // `Z` starts from the unclamped `Y`, as in `HHO.m` (`X2 = Rabbit - E |J Rabbit - X|
+        // + S .* Levy`): evaluating `Y` clamps it in place.
+        self.z = self.y;
         let current = self.swarm.pop.cost(i);
         let fy = self.evaluate_y(objective);
         if fy < current {
@@ -309,9 +322,9 @@ impl<const N: usize, const D: usize> Hho<N, D> {
         let scale = self.params.levy_scale;
         let sw = &mut self.swarm;
         let dim = sw.dim();
-        for (z, y) in self.z.iter_mut().zip(&self.y).take(dim) {
+        for z in self.z.iter_mut().take(dim) {
             let s = sw.rng.unit();
-            *z = y + s * scale * sw.rng.levy();
+            *z += s * scale * sw.rng.levy();
         }
         let fz = self.evaluate_z(objective);
         if fz < current {
@@ -460,6 +473,42 @@ mod tests {
         h.run(&mut obj, None, &Stop::default(), &mut hist).unwrap();
         assert!(hist.windows(2).all(|w| w[1] <= w[0]));
         assert_eq!(obj(h.best_position()), h.best_cost());
+    }
+
+    #[test]
+    fn levy_dive_starts_from_the_unclamped_y() {
+        // HHO.m: `X2 = Rabbit - E |J Rabbit - X| + S .* Levy(D)`, i.e. `Z` from the raw `Y`.
+        // Here `Y = -9` lies below the box `[0, 10]`: `Z` must be `clamp(-9 + step)` = 0, not
+        // `clamp(0 + step)` (which is positive for every positive Levy step).
+        let b = Bounds::<6>::uniform(6, 0.0, 10.0).unwrap();
+        let s = Settings {
+            population: 2,
+            iterations: 10,
+            seed: 4,
+        };
+        let mut h = Hho::<2, 6>::new(s, &b, HhoParams::hho()).unwrap();
+        let mut last = [f32::NAN; 6];
+        // A constant cost: neither `Y` nor `Z` improves on the hawk, so both are evaluated.
+        let mut obj = |x: &[f32]| {
+            last.copy_from_slice(x);
+            1.0f32
+        };
+        h.init(&mut obj, None).unwrap();
+        h.swarm.pop.replace(0, &[10.0; 6], 1.0);
+        h.swarm.tracker.best = [0.0; 6];
+        let e = 0.9;
+        let mut rng = h.swarm.rng.clone();
+        let j = 2.0 * (1.0 - rng.unit());
+        let mut want = [0.0f32; 6];
+        for w in &mut want {
+            let y = 0.0 - e * libm::fabsf(j * 0.0 - 10.0);
+            let s = rng.unit();
+            *w = (y + s * 0.01 * rng.levy()).clamp(0.0, 10.0);
+        }
+        h.dive(&mut obj, 0, e, false);
+        assert_eq!(last, want);
+        assert_eq!(want, [0.0; 6]);
+        assert_eq!(h.swarm.pop.position(0), &[10.0; 6]);
     }
 
     #[test]

@@ -179,8 +179,16 @@ impl<const D: usize> Bounds<D> {
     /// Clamps `x` into the box; NaN coordinates go to the lower bound.
     pub fn clamp(&self, x: &mut [f32]) {
         for ((v, l), u) in x.iter_mut().zip(self.lower()).zip(self.upper()) {
-            // `max` returns the bound for a NaN, which keeps NaN out of every objective call.
-            *v = v.max(*l).min(*u);
+            // A NaN becomes the lower bound, which keeps NaN out of every objective call.
+            // Comparisons rather than `max`/`min` (libm calls on Cortex-M4); the result is the
+            // same as `v.max(l).min(u)` except possibly for the sign of a zero on a zero bound.
+            *v = if v.is_nan() || *v < *l {
+                *l
+            } else if *v > *u {
+                *u
+            } else {
+                *v
+            };
         }
     }
 }
@@ -535,13 +543,8 @@ pub(crate) fn copy(dst: &mut [f32], src: &[f32]) {
     }
 }
 
-/// Square root. `libm::sqrtf` is correctly rounded, so it is bit-identical to the FPU's
-/// `VSQRT.F32`; using the FPU instruction on Cortex-M4F would need `asm!` (unsafe), which
-/// this crate denies: this single function is where to change that.
-#[inline]
-pub(crate) fn sqrtf(x: f32) -> f32 {
-    libm::sqrtf(x)
-}
+/// Square root: [`crate::math::sqrt`] (the FPU's `VSQRT.F32` on hard-float targets).
+pub(crate) use crate::math::sqrt as sqrtf;
 
 /// How the initial population is generated (before any caller-supplied rows replace rows).
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -10,17 +10,22 @@
 //! ```
 //! use planner_core::{grid::{words_for, Grid}, geometry::Cell, path::Path, search::SearchNode};
 //! use planner_core::planner::{plan, PlanParams, Workspace};
-//! use planner_core::optim::any::AlgorithmKind;
+//! use planner_core::encoding::corridor::Station;
+//! use planner_core::optim::any::{AlgorithmKind, AnyOptimizer};
 //!
 //! let grid: Grid<{ words_for(12, 6) }> = Grid::parse_rows(
 //!     b"............\n....@@@@....\n....@@@@....\n............\n..@@@@@@@@..\n............\n")?;
 //! let mut nodes = [SearchNode::EMPTY; 72];
 //! let mut guide: Path<128> = Path::new();
 //! let mut visited = [0u32; 4];
-//! let mut ws = Workspace { nodes: &mut nodes, guide: &mut guide, visited: &mut visited };
+//! let mut stations = [Station::EMPTY; 16];
+//! let mut ws = Workspace { nodes: &mut nodes, guide: &mut guide, visited: &mut visited, stations: &mut stations };
+//! // Any `PlanOptimizer`: `AnyOptimizer` serves every algorithm; firmware keeps a `Hho` or a
+//! // `Gwo` in a `static` instead (see `PlanOptimizer`).
+//! let mut optimizer = AnyOptimizer::<30, 16>::unconfigured();
 //! let params = PlanParams { iterations: 60, ..PlanParams::new(AlgorithmKind::Tclhho) };
 //! let mut path: Path<128> = Path::new();
-//! let report = plan::<30, 16>(grid.view(), Cell::new(0, 2), Cell::new(11, 3), &params, &mut ws, &mut path, &mut [], &mut || false)?;
+//! let report = plan(grid.view(), Cell::new(0, 2), Cell::new(11, 3), &params, &mut ws, &mut optimizer, &mut path, &mut [], &mut || false)?;
 //! assert!(report.length <= report.initial_cost);
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
@@ -37,8 +42,10 @@ use crate::error::PlanError;
 use crate::geometry::Cell;
 use crate::grid::GridRef;
 use crate::optim::any::{AlgorithmKind, AnyOptimizer};
+use crate::optim::gwo::{Gwo, GwoParams};
+use crate::optim::hho::{Hho, HhoParams};
 use crate::optim::random::Random;
-use crate::optim::{Bounds, OptimError, Optimizer, Settings};
+use crate::optim::{Bounds, Objective, OptimError, Optimizer, Settings};
 use crate::path::{self, PathView};
 use crate::search::{SearchNode, astar, check_endpoints};
 
@@ -254,6 +261,69 @@ pub struct Workspace<'a> {
     pub guide: &'a mut PathView,
     /// A bitset of `cells / 32 + 1` words (walk encoding).
     pub visited: &'a mut [u32],
+    /// The stations of the corridor encoding: `D` of them use every dimension of a plan
+    /// with capacity `D` (fewer cap the number of decision variables at `len - 2`).
+    pub stations: &'a mut [Station],
+}
+
+/// The optimizer storage [`plan`] runs: it configures the algorithm in place, so firmware can
+/// keep the whole optimizer state in a `static` (no large temporary on the stack).
+///
+/// [`AnyOptimizer`] serves every [`AlgorithmKind`]; its size is that of its largest variant
+/// (PSO). [`Hho`] serves HHO and TCLHHO only and [`Gwo`] GWO, TGWO and IGWO only (about a
+/// third of that size): other kinds are [`PlanError::InvalidParameters`].
+pub trait PlanOptimizer<const N: usize, const D: usize>: Optimizer {
+    /// Configures `kind` with its default (paper) parameters, in place.
+    fn configure_kind(
+        &mut self,
+        kind: AlgorithmKind,
+        settings: Settings,
+        bounds: &Bounds<D>,
+    ) -> Result<(), OptimError>;
+}
+
+impl<const N: usize, const D: usize> PlanOptimizer<N, D> for AnyOptimizer<N, D> {
+    fn configure_kind(
+        &mut self,
+        kind: AlgorithmKind,
+        settings: Settings,
+        bounds: &Bounds<D>,
+    ) -> Result<(), OptimError> {
+        self.configure(kind, settings, bounds)
+    }
+}
+
+impl<const N: usize, const D: usize> PlanOptimizer<N, D> for Hho<N, D> {
+    fn configure_kind(
+        &mut self,
+        kind: AlgorithmKind,
+        settings: Settings,
+        bounds: &Bounds<D>,
+    ) -> Result<(), OptimError> {
+        let params = match kind {
+            AlgorithmKind::Hho => HhoParams::hho(),
+            AlgorithmKind::Tclhho => HhoParams::tclhho(),
+            _ => return Err(OptimError::UnknownName),
+        };
+        self.configure(settings, bounds, params)
+    }
+}
+
+impl<const N: usize, const D: usize> PlanOptimizer<N, D> for Gwo<N, D> {
+    fn configure_kind(
+        &mut self,
+        kind: AlgorithmKind,
+        settings: Settings,
+        bounds: &Bounds<D>,
+    ) -> Result<(), OptimError> {
+        let params = match kind {
+            AlgorithmKind::Gwo => GwoParams::gwo(),
+            AlgorithmKind::Tgwo => GwoParams::tgwo(),
+            AlgorithmKind::Igwo => GwoParams::igwo(),
+            _ => return Err(OptimError::UnknownName),
+        };
+        self.configure(settings, bounds, params)
+    }
 }
 
 /// Relative improvement below which an iteration counts as stagnant.
@@ -268,7 +338,8 @@ fn optim_error(e: OptimError) -> PlanError {
     }
 }
 
-/// Plans `start -> goal` with an optimizer of capacity `N` members and `D` dimensions.
+/// Plans `start -> goal` with `optimizer` (capacity `N` members and `D` dimensions), which
+/// it configures for `params.algorithm`.
 ///
 /// `history` receives the best cost per iteration while it has room; `interrupt` is called
 /// once per iteration and returns `true` to stop early with the best path so far (deadline
@@ -280,18 +351,24 @@ fn optim_error(e: OptimError) -> PlanError {
 /// `N`/`D` is too small, [`PlanError::BudgetExhausted`] when a reproduction encoding ends
 /// with an infeasible best (the papers' "—").
 #[allow(clippy::too_many_arguments)]
-pub fn plan<const N: usize, const D: usize>(
+pub fn plan<const N: usize, const D: usize, O: PlanOptimizer<N, D>>(
     grid: GridRef<'_>,
     start: Cell,
     goal: Cell,
     params: &PlanParams,
     ws: &mut Workspace<'_>,
+    optimizer: &mut O,
     out: &mut PathView,
     history: &mut [f32],
     interrupt: &mut dyn FnMut() -> bool,
 ) -> Result<PlanReport, PlanError> {
     check_endpoints(grid, start, goal)?;
     check_params(params)?;
+    // Checked here as well as by the optimizer, so that a query that needs no optimizing
+    // (a straight guide) reports the same error as any other.
+    if params.population > N {
+        return Err(PlanError::CapacityExceeded);
+    }
     // The exact reference route doubles as the reachability test: A* exhausts the start's
     // component before it reports NoValidPath.
     astar::plan(grid, start, goal, ws.nodes, ws.guide)?;
@@ -301,20 +378,23 @@ pub fn plan<const N: usize, const D: usize>(
                 return trivial(grid, ws.guide, out);
             }
             // Stations include the two fixed ends, so at most D - 2 of them move.
-            let mut stations = [Station::default(); D];
+            let stations = match ws.stations.len() {
+                n if n > D => &mut ws.stations[..D],
+                _ => &mut *ws.stations,
+            };
             let mut enc = CorridorEncoding::build(
                 grid,
                 ws.guide,
                 params.corridor_spacing,
                 params.corridor_radius,
                 D,
-                &mut stations,
+                stations,
             )?;
             if enc.dim() == 0 {
                 return trivial(grid, ws.guide, out);
             }
-            optimise::<N, D, _>(
-                grid, start, goal, params, &mut enc, None, out, history, interrupt,
+            optimise(
+                grid, start, goal, params, &mut enc, None, optimizer, out, history, interrupt,
             )
         }
         EncodingKind::Column => {
@@ -322,8 +402,8 @@ pub fn plan<const N: usize, const D: usize>(
             if enc.dim() > D {
                 return Err(PlanError::CapacityExceeded);
             }
-            optimise::<N, D, _>(
-                grid, start, goal, params, &mut enc, None, out, history, interrupt,
+            optimise(
+                grid, start, goal, params, &mut enc, None, optimizer, out, history, interrupt,
             )
         }
         EncodingKind::Walk => {
@@ -341,13 +421,14 @@ pub fn plan<const N: usize, const D: usize>(
             let rule = params.corner_rule;
             let mut enc =
                 WalkEncoding::new(grid, start, goal, steps, rule, params.walk_beta, ws.visited)?;
-            optimise::<N, D, _>(
+            optimise(
                 grid,
                 start,
                 goal,
                 params,
                 &mut enc,
                 Some(rule),
+                optimizer,
                 out,
                 history,
                 interrupt,
@@ -400,13 +481,14 @@ fn trivial(
 }
 
 #[allow(clippy::too_many_arguments)]
-fn optimise<const N: usize, const D: usize, E: Encoding>(
+fn optimise<const N: usize, const D: usize, E: Encoding, O: PlanOptimizer<N, D>>(
     grid: GridRef<'_>,
     start: Cell,
     goal: Cell,
     params: &PlanParams,
     enc: &mut E,
     walk_rule: Option<CornerRule>,
+    opt: &mut O,
     out: &mut PathView,
     history: &mut [f32],
     interrupt: &mut dyn FnMut() -> bool,
@@ -426,20 +508,13 @@ fn optimise<const N: usize, const D: usize, E: Encoding>(
         iterations: params.iterations,
         seed: params.seed,
     };
-    let mut opt =
-        AnyOptimizer::<N, D>::new(params.algorithm, settings, &bounds).map_err(optim_error)?;
+    opt.configure_kind(params.algorithm, settings, &bounds)
+        .map_err(optim_error)?;
     let mut objective = |x: &[f32]| enc.cost(x);
     match params.init {
         InitKind::Optimizer => opt.init(&mut objective, None),
         InitKind::Diffusion => {
-            let mut rows = [[0.0f32; D]; N];
-            let count = params.population.min(N);
-            diffusion_rows(grid, start, &mut rows[..count], dim, params.seed);
-            let mut refs: [&[f32]; N] = [&[]; N];
-            for (r, row) in refs.iter_mut().zip(rows.iter()).take(count) {
-                *r = &row[..dim];
-            }
-            opt.init(&mut objective, Some(&refs[..count]))
+            diffusion_init::<N, D, _, _>(grid, start, params, dim, opt, &mut objective)
         }
     }
     .map_err(optim_error)?;
@@ -500,6 +575,27 @@ fn optimise<const N: usize, const D: usize, E: Encoding>(
         stop,
         history_len: written,
     })
+}
+
+/// Initialises `opt` from [`diffusion_rows`]. Out of line so that the rows (`N D` floats)
+/// take stack only in the plans that ask for this initialisation.
+#[inline(never)]
+fn diffusion_init<const N: usize, const D: usize, O: PlanOptimizer<N, D>, F: Objective + ?Sized>(
+    grid: GridRef<'_>,
+    start: Cell,
+    params: &PlanParams,
+    dim: usize,
+    opt: &mut O,
+    objective: &mut F,
+) -> Result<(), OptimError> {
+    let mut rows = [[0.0f32; D]; N];
+    let count = params.population.min(N);
+    diffusion_rows(grid, start, &mut rows[..count], dim, params.seed);
+    let mut refs: [&[f32]; N] = [&[]; N];
+    for (r, row) in refs.iter_mut().zip(rows.iter()).take(count) {
+        *r = &row[..dim];
+    }
+    opt.init(objective, Some(&refs[..count]))
 }
 
 /// The patent's square-neighbourhood diffusion for the column encoding: row `j` is a free

@@ -13,9 +13,11 @@ use alloc::vec::Vec;
 
 use super::aco::{self, AcoParams, AcoWorkspace};
 use super::{PlanParams, PlanReport, PlannerKind, Workspace, plan};
+use crate::encoding::corridor::Station;
 use crate::error::PlanError;
 use crate::geometry::Cell;
 use crate::grid::GridRef;
+use crate::optim::any::AnyOptimizer;
 use crate::path::{self, Path, PathView};
 use crate::search::{SearchNode, astar, connectivity, theta};
 
@@ -50,6 +52,8 @@ pub struct HostPlanner {
     delta: Vec<f32>,
     walk: Vec<u32>,
     best: Vec<u32>,
+    stations: Box<[Station; HOST_DIMENSION]>,
+    optimizer: Box<AnyOptimizer<HOST_POPULATION, HOST_DIMENSION>>,
 }
 
 impl Default for HostPlanner {
@@ -71,6 +75,8 @@ impl HostPlanner {
             delta: Vec::new(),
             walk: Vec::new(),
             best: Vec::new(),
+            stations: Box::new([Station::EMPTY; HOST_DIMENSION]),
+            optimizer: Box::new(AnyOptimizer::unconfigured()),
         }
     }
 
@@ -164,9 +170,18 @@ impl HostPlanner {
                     nodes: &mut self.nodes,
                     guide: &mut *self.guide,
                     visited: &mut self.visited,
+                    stations: &mut self.stations[..],
                 };
-                let report = plan::<HOST_POPULATION, HOST_DIMENSION>(
-                    grid, start, goal, &params, &mut ws, out, history, interrupt,
+                let report = plan(
+                    grid,
+                    start,
+                    goal,
+                    &params,
+                    &mut ws,
+                    &mut *self.optimizer,
+                    out,
+                    history,
+                    interrupt,
                 )?;
                 Ok(Outcome {
                     length: report.length,

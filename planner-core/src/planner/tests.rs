@@ -1,4 +1,5 @@
 use super::*;
+use crate::encoding::corridor::Station;
 use crate::grid::{Grid, words_for};
 use crate::maps::{MapKind, lab_20x20, seed000};
 use crate::path::{Path, validate};
@@ -33,9 +34,20 @@ impl Scratch {
             nodes: &mut self.nodes,
             guide: &mut self.guide,
             visited: &mut self.visited,
+            stations: &mut [Station::EMPTY; 64],
         };
         let mut out: Path<1600> = Path::new();
-        let r = plan::<30, 64>(g.view(), s, t, p, &mut ws, &mut out, &mut [], &mut || false)?;
+        let r = plan(
+            g.view(),
+            s,
+            t,
+            p,
+            &mut ws,
+            &mut AnyOptimizer::<30, 64>::unconfigured(),
+            &mut out,
+            &mut [],
+            &mut || false,
+        )?;
         Ok((r, out))
     }
 }
@@ -232,15 +244,17 @@ fn every_error_from_bad_input() {
         nodes: &mut nodes,
         guide: &mut guide,
         visited: &mut visited,
+        stations: &mut [Station::EMPTY; 64],
     };
     let mut out: Path<4> = Path::new();
     assert_eq!(
-        plan::<30, 8>(
+        plan(
             g.view(),
             c(0, 0),
             c(3, 2),
             &p,
             &mut ws,
+            &mut AnyOptimizer::<30, 8>::unconfigured(),
             &mut out,
             &mut [],
             &mut || false
@@ -277,16 +291,18 @@ fn trivial_queries_and_interrupts() {
         nodes: &mut sc.nodes,
         guide: &mut sc.guide,
         visited: &mut sc.visited,
+        stations: &mut [Station::EMPTY; 64],
     };
     let mut out: Path<1600> = Path::new();
     let mut calls = 0;
     let mut hist = [0.0f32; 500];
-    let r = plan::<30, 64>(
+    let r = plan(
         m.grid.view(),
         m.start,
         m.goal,
         &quick(AlgorithmKind::Tclhho),
         &mut ws,
+        &mut AnyOptimizer::<30, 64>::unconfigured(),
         &mut out,
         &mut hist,
         &mut || {

@@ -2,9 +2,7 @@
 //! heuristic (consistent, so the first time the goal is taken off the open list its cost is
 //! optimal). Ties on `f` prefer the larger `g`, which expands fewer cells on open floors.
 
-use super::{
-    MOVES, Open, SearchNode, SearchStats, allowed_moves, check_endpoints, connectivity, octile_xy,
-};
+use super::{SearchNode, SearchStats, best_first, octile_xy};
 use crate::error::PlanError;
 use crate::geometry::Cell;
 use crate::grid::GridRef;
@@ -36,51 +34,18 @@ pub fn plan_with_labels(
     nodes: &mut [SearchNode],
     out: &mut PathView,
 ) -> Result<SearchStats, PlanError> {
-    check_endpoints(grid, start, goal)?;
-    if nodes.len() < grid.cells() {
-        return Err(PlanError::CapacityExceeded);
-    }
-    if let Some(labels) = labels
-        && !connectivity::connected(grid, labels, start, goal)?
-    {
-        return Err(PlanError::NoValidPath);
-    }
-    let width = grid.width() as isize;
-    let (s, t) = (start_index(grid, start)?, start_index(grid, goal)?);
-    let (gx, gy) = (goal.x as isize, goal.y as isize);
-    let mut open = Open::new(nodes);
-    open.relax(
-        s,
-        0.0,
-        octile_xy(start.x as isize, start.y as isize, gx, gy),
-        s,
-    );
-    let mut expanded = 0u32;
-    while let Some(i) = open.pop() {
-        expanded += 1;
-        if i == t {
-            let length = open.g(t);
-            open.write_path(grid, s, t, out)?;
-            return Ok(SearchStats { length, expanded });
-        }
-        let (x, y) = ((i as isize) % width, (i as isize) / width);
-        let g = open.g(i);
-        let mut moves = allowed_moves(grid, x, y);
-        while moves != 0 {
-            let (dx, dy, cost) = MOVES[moves.trailing_zeros() as usize];
-            moves &= moves - 1;
-            let (dx, dy) = (dx as isize, dy as isize);
-            let (nx, ny) = (x + dx, y + dy);
-            let j = (ny * width + nx) as usize;
-            // `relax` ignores closed cells.
-            open.relax(j, g + cost, octile_xy(nx, ny, gx, gy), i);
-        }
-    }
-    Err(PlanError::NoValidPath)
-}
-
-fn start_index(grid: GridRef<'_>, cell: Cell) -> Result<usize, PlanError> {
-    grid.index(cell).ok_or(PlanError::StartOutsideMap)
+    best_first(
+        grid,
+        start,
+        goal,
+        labels,
+        nodes,
+        out,
+        octile_xy,
+        |open, s| {
+            open.relax(s.j, open.g(s.i) + s.cost, s.h, s.i);
+        },
+    )
 }
 
 #[cfg(test)]

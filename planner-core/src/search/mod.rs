@@ -37,7 +37,7 @@ use crate::path::PathView;
 pub struct SearchNode {
     g: f32,
     parent: u32,
-    /// The cell's state: `NEW`, `CLOSED`, or else open at this position of the heap.
+    /// The cell's state: `NEW`, `CLOSED`, or else open at heap position `heap_pos - 2`.
     heap_pos: u32,
     /// Slot `i` of the open heap (or of the stack of closed cells, which grows down from
     /// the end of the array) is stored in `nodes[i]`: the cell and, for the heap, its key
@@ -48,11 +48,15 @@ pub struct SearchNode {
     slot_cell: u32,
 }
 
-/// `heap_pos` of a cell not reached yet. (Heap positions stay below the cell count, at
-/// most 65535^2 < `CLOSED`.)
-const NEW: u32 = u32::MAX;
+/// `heap_pos` of a cell not reached yet. Zero, so that [`SearchNode::EMPTY`] is all-zero
+/// bytes and a `static` node array lands in `.bss` (no flash image). Open cells store their
+/// heap position plus 2 (heap positions stay below the cell count, at most 65535^2, so
+/// this never overflows).
+const NEW: u32 = 0;
 /// `heap_pos` of a closed cell.
-const CLOSED: u32 = u32::MAX - 1;
+const CLOSED: u32 = 1;
+/// Offset of a stored heap position.
+const OPEN_BASE: u32 = 2;
 
 impl SearchNode {
     /// An unused node (for array initialisers).
@@ -257,7 +261,7 @@ impl<'n> Open<'n> {
                 self.len - 1
             }
             _ if g >= node.g => return,
-            pos => pos as usize,
+            pos => (pos - OPEN_BASE) as usize,
         };
         node.g = g;
         node.parent = parent as u32;
@@ -297,7 +301,7 @@ impl<'n> Open<'n> {
         slot.slot_f = (e.key >> 32) as u32;
         slot.slot_g = e.key as u32;
         slot.slot_cell = e.cell;
-        self.nodes[e.cell as usize].heap_pos = pos as u32;
+        self.nodes[e.cell as usize].heap_pos = pos as u32 + OPEN_BASE;
     }
 
     /// Moves `e`, to be stored at `pos`, up to its place.
@@ -386,6 +390,93 @@ impl Drop for Open<'_> {
             self.nodes[cell].heap_pos = NEW;
         }
     }
+}
+
+/// One neighbour offered to a planner's relaxation rule by [`best_first`].
+pub(crate) struct Step {
+    /// The cell being expanded.
+    pub i: usize,
+    /// The neighbour.
+    pub j: usize,
+    /// The neighbour's coordinates.
+    pub nx: isize,
+    /// The neighbour's coordinates.
+    pub ny: isize,
+    /// Cost of the grid move `i -> j` (1 or sqrt 2).
+    pub cost: f32,
+    /// Heuristic of the neighbour.
+    pub h: f32,
+}
+
+/// The best-first loop A* and Theta* share: endpoint checks, storage and reachability
+/// checks, the open list, the allowed 8-connected moves, and the path at the end. They differ
+/// only in their heuristic and in how a neighbour is relaxed (`relax`, called for every
+/// allowed move to a cell that is not closed yet).
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn best_first(
+    grid: GridRef<'_>,
+    start: Cell,
+    goal: Cell,
+    labels: Option<&[u32]>,
+    nodes: &mut [SearchNode],
+    out: &mut PathView,
+    heuristic: fn(isize, isize, isize, isize) -> f32,
+    mut relax: impl FnMut(&mut Open<'_>, &Step),
+) -> Result<SearchStats, PlanError> {
+    check_endpoints(grid, start, goal)?;
+    if nodes.len() < grid.cells() {
+        return Err(PlanError::CapacityExceeded);
+    }
+    if let Some(labels) = labels
+        && !connectivity::connected(grid, labels, start, goal)?
+    {
+        return Err(PlanError::NoValidPath);
+    }
+    let width = grid.width() as isize;
+    let (Some(s), Some(t)) = (grid.index(start), grid.index(goal)) else {
+        return Err(PlanError::StartOutsideMap);
+    };
+    let (gx, gy) = (goal.x as isize, goal.y as isize);
+    let mut open = Open::new(nodes);
+    open.relax(
+        s,
+        0.0,
+        heuristic(start.x as isize, start.y as isize, gx, gy),
+        s,
+    );
+    let mut expanded = 0u32;
+    while let Some(i) = open.pop() {
+        expanded += 1;
+        if i == t {
+            let length = open.g(t);
+            open.write_path(grid, s, t, out)?;
+            return Ok(SearchStats { length, expanded });
+        }
+        let (x, y) = ((i as isize) % width, (i as isize) / width);
+        let mut moves = allowed_moves(grid, x, y);
+        while moves != 0 {
+            let (dx, dy, cost) = MOVES[moves.trailing_zeros() as usize];
+            moves &= moves - 1;
+            let (nx, ny) = (x + dx as isize, y + dy as isize);
+            let j = (ny * width + nx) as usize;
+            if open.is_closed(j) {
+                continue;
+            }
+            let h = heuristic(nx, ny, gx, gy);
+            relax(
+                &mut open,
+                &Step {
+                    i,
+                    j,
+                    nx,
+                    ny,
+                    cost,
+                    h,
+                },
+            );
+        }
+    }
+    Err(PlanError::NoValidPath)
 }
 
 /// Octile heuristic between row-major indices' cells, without division in the hot loop.

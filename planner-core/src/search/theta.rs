@@ -5,9 +5,7 @@
 //! than A*'s: every relaxation offers at most the grid step's cost (triangle inequality), so
 //! the first time the goal is closed its cost is at most the octile optimum.
 
-use super::{
-    MOVES, Open, SearchNode, SearchStats, allowed_moves, check_endpoints, connectivity, euclid_xy,
-};
+use super::{SearchNode, SearchStats, best_first, euclid_xy};
 use crate::error::PlanError;
 use crate::geometry::{Cell, line_of_sight};
 use crate::grid::GridRef;
@@ -34,59 +32,31 @@ pub fn plan_with_labels(
     nodes: &mut [SearchNode],
     out: &mut PathView,
 ) -> Result<SearchStats, PlanError> {
-    check_endpoints(grid, start, goal)?;
-    if nodes.len() < grid.cells() {
-        return Err(PlanError::CapacityExceeded);
-    }
-    if let Some(labels) = labels
-        && !connectivity::connected(grid, labels, start, goal)?
-    {
-        return Err(PlanError::NoValidPath);
-    }
     let width = grid.width() as isize;
-    let (Some(s), Some(t)) = (grid.index(start), grid.index(goal)) else {
-        return Err(PlanError::StartOutsideMap);
-    };
-    let (gx, gy) = (goal.x as isize, goal.y as isize);
-    let mut open = Open::new(nodes);
-    open.relax(
-        s,
-        0.0,
-        euclid_xy(start.x as isize, start.y as isize, gx, gy),
-        s,
-    );
-    let mut expanded = 0u32;
-    while let Some(i) = open.pop() {
-        expanded += 1;
-        if i == t {
-            let length = open.g(t);
-            open.write_path(grid, s, t, out)?;
-            return Ok(SearchStats { length, expanded });
-        }
-        let (x, y) = ((i as isize) % width, (i as isize) / width);
-        let parent = open.node(i).parent as usize;
-        let (px, py) = ((parent as isize) % width, (parent as isize) / width);
-        let (g, g_parent) = (open.g(i), open.g(parent));
-        let mut moves = allowed_moves(grid, x, y);
-        while moves != 0 {
-            let (dx, dy, cost) = MOVES[moves.trailing_zeros() as usize];
-            moves &= moves - 1;
-            let (dx, dy) = (dx as isize, dy as isize);
-            let (nx, ny) = (x + dx, y + dy);
-            let j = (ny * width + nx) as usize;
-            if open.is_closed(j) {
-                continue;
-            }
-            let h = euclid_xy(nx, ny, gx, gy);
-            let neighbour = grid.cell(j);
-            if parent != i && line_of_sight(grid, grid.cell(parent), neighbour) {
-                open.relax(j, g_parent + euclid_xy(px, py, nx, ny), h, parent);
+    best_first(
+        grid,
+        start,
+        goal,
+        labels,
+        nodes,
+        out,
+        euclid_xy,
+        |open, s| {
+            // Path 1: straight from the expanded cell's parent, if it sees the neighbour.
+            let parent = open.node(s.i).parent as usize;
+            if parent != s.i && line_of_sight(grid, grid.cell(parent), grid.cell(s.j)) {
+                let (px, py) = ((parent as isize) % width, (parent as isize) / width);
+                open.relax(
+                    s.j,
+                    open.g(parent) + euclid_xy(px, py, s.nx, s.ny),
+                    s.h,
+                    parent,
+                );
             } else {
-                open.relax(j, g + cost, h, i);
+                open.relax(s.j, open.g(s.i) + s.cost, s.h, s.i);
             }
-        }
-    }
-    Err(PlanError::NoValidPath)
+        },
+    )
 }
 
 #[cfg(test)]

@@ -2,6 +2,7 @@
 //! quality and speed. Each prints a table, and writes JSON and CSV (and pictures where the
 //! papers have figures) under `--out`.
 
+pub mod lowerbound;
 pub mod movingai;
 pub mod paper;
 pub mod speed;
@@ -25,6 +26,9 @@ enum Which {
     Movingai(movingai::MovingaiArgs),
     /// Time per plan against A* in the same process, with and without stagnation stopping.
     Speed(speed::SpeedArgs),
+    /// Lower bound on any valid path's length (shortest path touching obstacles) on the
+    /// Moving AI warehouse rows.
+    Lowerbound(lowerbound::LowerboundArgs),
 }
 
 /// Runs `host-sim bench`.
@@ -33,6 +37,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         Which::Paper(a) => paper::run(a),
         Which::Movingai(a) => movingai::run(a),
         Which::Speed(a) => speed::run(a),
+        Which::Lowerbound(a) => lowerbound::run(a),
     }
 }
 

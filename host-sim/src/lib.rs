@@ -1,0 +1,14 @@
+//! `host-sim` as a library: the parts that integration tests, fuzz targets and other tools
+//! reuse. The CLI in `main.rs` is a thin layer over these modules.
+//!
+//! - [`maps`]: Moving AI loading and host-sized grids;
+//! - [`mapsrc`]: simulator map sources (generated warehouses, Moving AI, ROS `map_server`);
+//! - [`render`]: PNG/SVG pictures;
+//! - [`sim`]: the warehouse simulator (diff-drive robot, DWA, dynamic obstacles, missions);
+//! - [`validate`]: an independent f64 path validator.
+
+pub mod maps;
+pub mod mapsrc;
+pub mod render;
+pub mod sim;
+pub mod validate;

@@ -1,0 +1,454 @@
+//! `planner-bench`: iceoryx2 against a Unix domain socket with postcard framing, in one run.
+//!
+//! ```text
+//! cargo build --release -p planner-ipc --bins
+//! target/release/planner-bench [--iterations 10000]
+//! ```
+//! For a 64x64 and a 340x164 empty map, in busy and blocking modes, it measures:
+//! - the round trip of a trivial plan (A* from (0,0) to (3,2)): iceoryx2 against the
+//!   `planner-server` binary (spawned from the same directory) and the socket against a
+//!   peer process (this binary, `uds-peer`) running the same engine; both report the
+//!   server-side planning time, so the transport share is printed too;
+//! - publishing a map update: the sender's cost of handing a whole map over (iceoryx2:
+//!   loan + write + send of a map frame (header + used words); socket: postcard encoding + write), and the full
+//!   update until the server confirms it holds the new version.
+//!
+//! Socket framing: a little-endian `u32` length, then the postcard bytes of a
+//! [`UdsRequest`] or [`UdsResponse`]. Busy mode spins on non-blocking sockets; blocking
+//! mode blocks in `read`.
+
+use anyhow::Context;
+use planner_ipc::client::{ClientConfig, PlannerClient, Wait};
+use planner_ipc::engine::{Engine, Scratch};
+use planner_ipc::services::Names;
+use planner_ipc::wire::{
+    Algorithm, MAP_CAPACITY_CELLS, MapHeader, MapMeta, MapMsg, PlanRequest, PlanResult,
+    RequestKind, WireGrid,
+};
+use serde::{Deserialize, Serialize};
+use std::io::{ErrorKind, Read, Write};
+use std::os::unix::net::{UnixListener, UnixStream};
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+
+#[derive(Serialize, Deserialize)]
+enum UdsRequest {
+    Map(MapMsg),
+    Plan(PlanRequest),
+}
+
+#[derive(Serialize, Deserialize)]
+enum UdsResponse {
+    MapTaken,
+    Plan(PlanResult),
+}
+
+fn main() -> anyhow::Result<()> {
+    env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("warn")).init();
+    planner_ipc::services::quiet_iceoryx_logs();
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    if args.first().map(String::as_str) == Some("uds-peer") {
+        let path = PathBuf::from(args.get(1).context("uds-peer PATH busy|blocking")?);
+        let busy = args.get(2).map(String::as_str) == Some("busy");
+        return uds_peer(&path, busy);
+    }
+    if args.first().map(String::as_str) == Some("ipc-echo") {
+        return ipc_echo(args.get(1).context("ipc-echo PREFIX")?);
+    }
+    if args.first().map(String::as_str) == Some("raw") {
+        return raw_floor(args.get(1).map_or(Ok(20_000), |v| v.parse())?);
+    }
+    let iterations = match args.iter().position(|a| a == "--iterations") {
+        Some(i) => args.get(i + 1).context("--iterations N")?.parse()?,
+        None => 10_000usize,
+    };
+    println!(
+        "planner-bench: {iterations} round trips per case; trivial plan = A* (0,0)->(3,2) on an empty map"
+    );
+    println!(
+        "{:<9} {:<8} {:<26} {:>10} {:>10} {:>10} {:>10} {:>8}",
+        "map", "mode", "what", "ipc p50", "ipc p99", "uds p50", "uds p99", "ratio"
+    );
+    for (w, h) in [(64usize, 64usize), (340, 164)] {
+        for busy in [true, false] {
+            run_case(w, h, busy, iterations)?;
+        }
+    }
+    println!(
+        "ratio = iceoryx2 p50 / socket p50 (goals: plan round trip <= 0.4 in busy mode, map publish <= 0.2)"
+    );
+    Ok(())
+}
+
+struct Kill(Child);
+
+impl Drop for Kill {
+    fn drop(&mut self) {
+        let _ = self.0.kill();
+        let _ = self.0.wait();
+    }
+}
+
+fn percentile(samples: &mut [f64], q: f64) -> f64 {
+    samples.sort_by(f64::total_cmp);
+    samples[((samples.len() - 1) as f64 * q).round() as usize]
+}
+
+fn row(map: &str, mode: &str, what: &str, ipc: &mut [f64], uds: &mut [f64]) {
+    let (i50, i99) = (percentile(ipc, 0.5), percentile(ipc, 0.99));
+    let (u50, u99) = (percentile(uds, 0.5), percentile(uds, 0.99));
+    println!(
+        "{map:<9} {mode:<8} {what:<26} {i50:>8.2}us {i99:>8.2}us {u50:>8.2}us {u99:>8.2}us {:>8.3}",
+        i50 / u50
+    );
+}
+
+fn run_case(w: usize, h: usize, busy: bool, iterations: usize) -> anyhow::Result<()> {
+    let mode = if busy { "busy" } else { "blocking" };
+    let map_name = format!("{w}x{h}");
+    let grid = Box::new(WireGrid::new(w, h).map_err(anyhow::Error::msg)?);
+    let mut words = Vec::new();
+    let header = planner_ipc::wire::pack_map(
+        MapMeta {
+            map_id: 1,
+            version: 1,
+            resolution: 0.05,
+            origin: [0.0, 0.0],
+        },
+        grid.view(),
+        &mut words,
+    )
+    .map_err(anyhow::Error::msg)?;
+    let mut frame = Frame { header, words };
+    let warmup = iterations / 10 + 10;
+    let updates = (iterations / 20).max(50);
+    // One transport at a time: with 2 cores, a spinning idle peer would distort the other.
+    let ipc = ipc_phase(&mut frame, busy, warmup, iterations, updates)?;
+    let uds = uds_phase(&mut frame, busy, warmup, iterations, updates)?;
+    let [mut i_rt, mut i_net, mut i_pub, mut i_full] = ipc;
+    let [mut u_rt, mut u_net, mut u_pub, mut u_full] = uds;
+    row(&map_name, mode, "plan round trip", &mut i_rt, &mut u_rt);
+    row(
+        &map_name,
+        mode,
+        "  of which transport",
+        &mut i_net,
+        &mut u_net,
+    );
+    row(
+        &map_name,
+        mode,
+        "map publish (sender)",
+        &mut i_pub,
+        &mut u_pub,
+    );
+    row(
+        &map_name,
+        mode,
+        "map update until stored",
+        &mut i_full,
+        &mut u_full,
+    );
+    Ok(())
+}
+
+type Samples = [Vec<f64>; 4];
+
+/// A map frame as published: header and used words.
+struct Frame {
+    header: MapHeader,
+    words: Vec<u32>,
+}
+
+fn ipc_phase(
+    frame: &mut Frame,
+    busy: bool,
+    warmup: usize,
+    iterations: usize,
+    updates: usize,
+) -> anyhow::Result<Samples> {
+    let mode = if busy { "busy" } else { "blocking" };
+    let prefix = format!(
+        "bench-{}-{}x{}-{mode}",
+        std::process::id(),
+        frame.header.width,
+        frame.header.height
+    );
+    let exe_dir = std::env::current_exe()?
+        .parent()
+        .context("no exe dir")?
+        .to_path_buf();
+    let _server = Kill(
+        Command::new(exe_dir.join("planner-server"))
+            .args(["--prefix", &prefix, "--mode", mode])
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .spawn()
+            .context("cannot start planner-server (build it: cargo build --release -p planner-ipc --bins)")?,
+    );
+    let mut client = PlannerClient::new(ClientConfig {
+        names: Names::new(&prefix),
+        wait: if busy {
+            Wait::Busy
+        } else {
+            // The library default: spin 50 us, then sleep on the wake event.
+            ClientConfig::default().wait
+        },
+        node_name: "planner-bench".into(),
+        // A busy server polls its ports: no wake-up syscall needed.
+        notify_server: !busy,
+        ..ClientConfig::default()
+    })?;
+    frame.header.version = 1;
+    client.publish_map(&frame.header, &frame.words)?;
+    client.wait_for_map(1, 1, Duration::from_secs(10))?;
+    let request = PlanRequest::new((1, 1), [0, 0], [3, 2], Algorithm::AStar);
+    let (mut rt, mut net) = (Vec::new(), Vec::new());
+    for i in 0..warmup + iterations {
+        let began = Instant::now();
+        let (_, server_us) = client.plan_raw(&request, Duration::from_secs(5))?;
+        let t = began.elapsed().as_secs_f64() * 1e6;
+        if i >= warmup {
+            rt.push(t);
+            net.push(t - server_us as f64);
+        }
+    }
+    let (mut publish, mut full) = (Vec::new(), Vec::new());
+    let mut status = PlanRequest::new((1, 0), [0, 0], [0, 0], Algorithm::AStar);
+    status.kind = RequestKind::MapStatus as u8;
+    for version in 2..updates as u32 + 2 {
+        frame.header.version = version;
+        let began = Instant::now();
+        client.publish_map(&frame.header, &frame.words)?;
+        let published = began.elapsed().as_secs_f64() * 1e6;
+        status.map_version = version;
+        client.plan(&status, Duration::from_secs(5))?;
+        publish.push(published);
+        full.push(began.elapsed().as_secs_f64() * 1e6);
+    }
+    Ok([rt, net, publish, full])
+}
+
+fn uds_phase(
+    frame: &mut Frame,
+    busy: bool,
+    warmup: usize,
+    iterations: usize,
+    updates: usize,
+) -> anyhow::Result<Samples> {
+    let mode = if busy { "busy" } else { "blocking" };
+    let sock = std::env::temp_dir().join(format!(
+        "planner-bench-{}-{}x{}-{mode}.sock",
+        std::process::id(),
+        frame.header.width,
+        frame.header.height
+    ));
+    let _ = std::fs::remove_file(&sock);
+    let _peer = Kill(
+        Command::new(std::env::current_exe()?)
+            .args(["uds-peer", sock.to_str().context("path")?, mode])
+            .spawn()?,
+    );
+    let mut stream = connect(&sock)?;
+    stream.set_nonblocking(busy)?;
+    let mut buf = vec![0u8; 1 << 20];
+    frame.header.version = 1;
+    uds_call(
+        &mut stream,
+        &UdsRequest::Map(MapMsg::new(&frame.header, &frame.words)),
+        &mut buf,
+    )?;
+    let request = PlanRequest::new((1, 1), [0, 0], [3, 2], Algorithm::AStar);
+    let (mut rt, mut net) = (Vec::new(), Vec::new());
+    for i in 0..warmup + iterations {
+        let began = Instant::now();
+        let reply = uds_call(&mut stream, &UdsRequest::Plan(request), &mut buf)?;
+        let t = began.elapsed().as_secs_f64() * 1e6;
+        let UdsResponse::Plan(result) = reply else {
+            anyhow::bail!("unexpected socket reply");
+        };
+        anyhow::ensure!(result.outcome.is_ok(), "socket plan failed");
+        if i >= warmup {
+            rt.push(t);
+            net.push(t - result.time_us as f64);
+        }
+    }
+    let (mut publish, mut full) = (Vec::new(), Vec::new());
+    for version in 2..updates as u32 + 2 {
+        frame.header.version = version;
+        let began = Instant::now();
+        // The socket has to carry bytes: encoding the frame is part of publishing it.
+        let msg = MapMsg::new(&frame.header, &frame.words);
+        uds_send(&mut stream, &UdsRequest::Map(msg), &mut buf)?;
+        let published = began.elapsed().as_secs_f64() * 1e6;
+        let _: UdsResponse = uds_recv(&mut stream, &mut buf)?;
+        publish.push(published);
+        full.push(began.elapsed().as_secs_f64() * 1e6);
+    }
+    drop(stream);
+    let _ = std::fs::remove_file(&sock);
+    Ok([rt, net, publish, full])
+}
+
+fn connect(path: &Path) -> anyhow::Result<UnixStream> {
+    let began = Instant::now();
+    loop {
+        match UnixStream::connect(path) {
+            Ok(s) => return Ok(s),
+            Err(e) if began.elapsed() > Duration::from_secs(10) => {
+                return Err(e).context("socket peer did not start");
+            }
+            Err(_) => std::thread::sleep(Duration::from_millis(5)),
+        }
+    }
+}
+
+fn uds_call(
+    stream: &mut UnixStream,
+    request: &UdsRequest,
+    buf: &mut [u8],
+) -> anyhow::Result<UdsResponse> {
+    uds_send(stream, request, buf)?;
+    uds_recv(stream, buf)
+}
+
+fn uds_send<T: Serialize>(
+    stream: &mut UnixStream,
+    value: &T,
+    buf: &mut [u8],
+) -> anyhow::Result<()> {
+    let (head, body) = buf.split_at_mut(4);
+    let n = postcard::to_slice(value, body)?.len();
+    head.copy_from_slice(&(n as u32).to_le_bytes());
+    write_all_spin(stream, &buf[..4 + n])
+}
+
+fn uds_recv<T: for<'de> Deserialize<'de>>(
+    stream: &mut UnixStream,
+    buf: &mut [u8],
+) -> anyhow::Result<T> {
+    let mut head = [0u8; 4];
+    read_exact_spin(stream, &mut head)?;
+    let n = u32::from_le_bytes(head) as usize;
+    anyhow::ensure!(n <= buf.len(), "frame too large");
+    read_exact_spin(stream, &mut buf[..n])?;
+    Ok(postcard::from_bytes(&buf[..n])?)
+}
+
+/// `read_exact` that also works on a non-blocking socket (spinning on `WouldBlock`).
+fn read_exact_spin(stream: &mut UnixStream, mut out: &mut [u8]) -> anyhow::Result<()> {
+    while !out.is_empty() {
+        match stream.read(out) {
+            Ok(0) => anyhow::bail!("socket closed"),
+            Ok(n) => out = &mut out[n..],
+            Err(e) if e.kind() == ErrorKind::WouldBlock => std::hint::spin_loop(),
+            Err(e) if e.kind() == ErrorKind::Interrupted => {}
+            Err(e) => return Err(e.into()),
+        }
+    }
+    Ok(())
+}
+
+fn write_all_spin(stream: &mut UnixStream, mut data: &[u8]) -> anyhow::Result<()> {
+    while !data.is_empty() {
+        match stream.write(data) {
+            Ok(n) => data = &data[n..],
+            Err(e) if e.kind() == ErrorKind::WouldBlock => std::hint::spin_loop(),
+            Err(e) if e.kind() == ErrorKind::Interrupted => {}
+            Err(e) => return Err(e.into()),
+        }
+    }
+    Ok(())
+}
+
+/// The socket server: the same engine as `planner-server`, one connection.
+fn uds_peer(path: &Path, busy: bool) -> anyhow::Result<()> {
+    let listener = UnixListener::bind(path)?;
+    let (mut stream, _) = listener.accept()?;
+    stream.set_nonblocking(busy)?;
+    let engine = Engine::new(MAP_CAPACITY_CELLS, 4);
+    let mut scratch = Scratch::default();
+    let mut buf = vec![0u8; 1 << 20];
+    loop {
+        let request: UdsRequest = match uds_recv(&mut stream, &mut buf) {
+            Ok(r) => r,
+            Err(_) => return Ok(()), // client closed
+        };
+        let reply = match request {
+            UdsRequest::Map(msg) => {
+                let grid = msg.to_grid(engine.store.max_cells());
+                engine.store.update(msg.meta, grid);
+                UdsResponse::MapTaken
+            }
+            UdsRequest::Plan(req) => {
+                UdsResponse::Plan(engine.handle(&mut scratch, &req, &mut || false))
+            }
+        };
+        uds_send(&mut stream, &reply, &mut buf)?;
+    }
+}
+
+/// A bare iceoryx2 echo server on the plan service (no engine): answers every request at
+/// once with an empty ok header. Measures the floor of the iceoryx2 round trip.
+fn ipc_echo(prefix: &str) -> anyhow::Result<()> {
+    use planner_ipc::services;
+    use planner_ipc::wire::PlanResponseHeader;
+    let node = services::node("planner-bench-echo")?;
+    let service =
+        services::plan_service_create(&node, &Names::new(prefix), &services::Limits::default())?;
+    let server = service
+        .server_builder()
+        .initial_max_slice_len(services::PATH_SLICE_CAPACITY)
+        .create()
+        .map_err(|e| anyhow::anyhow!("{e:?}"))?;
+    let began = Instant::now();
+    while began.elapsed() < Duration::from_secs(60) {
+        if let Some(active) = server.receive().map_err(|e| anyhow::anyhow!("{e:?}"))? {
+            let header = PlanResponseHeader {
+                request_id: active.payload().request_id,
+                ..Default::default()
+            };
+            let mut r = active
+                .loan_slice_uninit(0)
+                .map_err(|e| anyhow::anyhow!("{e:?}"))?
+                .write_from_fn(|_| unreachable!());
+            *r.user_header_mut() = header;
+            r.send().map_err(|e| anyhow::anyhow!("{e:?}"))?;
+        } else {
+            std::hint::spin_loop();
+        }
+    }
+    Ok(())
+}
+
+/// `planner-bench raw [N]`: the bare iceoryx2 round trip (busy client, echo server).
+fn raw_floor(iterations: usize) -> anyhow::Result<()> {
+    let prefix = format!("bench-raw-{}", std::process::id());
+    let _echo = Kill(
+        Command::new(std::env::current_exe()?)
+            .args(["ipc-echo", &prefix])
+            .spawn()?,
+    );
+    std::thread::sleep(Duration::from_millis(300));
+    let mut client = PlannerClient::new(ClientConfig {
+        names: Names::new(&prefix),
+        wait: Wait::Busy,
+        notify_server: false,
+        node_name: "planner-bench-raw".into(),
+        ..ClientConfig::default()
+    })?;
+    let request = PlanRequest::new((1, 1), [0, 0], [3, 2], Algorithm::AStar);
+    let mut rt = Vec::new();
+    for _ in 0..iterations {
+        let began = Instant::now();
+        client.plan_raw(&request, Duration::from_secs(5))?;
+        rt.push(began.elapsed().as_secs_f64() * 1e6);
+    }
+    println!(
+        "bare iceoryx2 round trip (echo server, busy): p50 {:.2} us, p99 {:.2} us",
+        percentile(&mut rt, 0.5),
+        percentile(&mut rt, 0.99)
+    );
+    Ok(())
+}

@@ -1,0 +1,224 @@
+//! Service names and the one place where every iceoryx2 service is declared, so that the
+//! server and the clients open them with identical settings.
+//!
+//! Services under a configurable prefix `P` (tests use a unique prefix per test):
+//! - `P/map`: publish-subscribe of map frames: [`MapHeader`] + `[u32]` words (host
+//!   publishes, server subscribes; the
+//!   publisher keeps a history so that a late or restarted server gets the current maps);
+//! - `P/plan`: request-response [`PlanRequest`] -> [`PlanResponseHeader`] + `[Waypoint]`;
+//! - `P/plan-wake`: event; clients notify it after sending a request so that a blocking
+//!   server wakes up;
+//! - `P/client-wake/T`: event per blocking client (token `T`); the server notifies it after
+//!   answering that client.
+
+use crate::wire::{MAP_WORDS, MAX_WAYPOINTS, MapHeader, PlanRequest, PlanResponseHeader, Waypoint};
+use iceoryx2::node::Node;
+use iceoryx2::node::NodeView;
+use iceoryx2::prelude::*;
+use iceoryx2::service::port_factory::event::PortFactory as EventFactory;
+use iceoryx2::service::port_factory::publish_subscribe::PortFactory as PubSubFactory;
+use iceoryx2::service::port_factory::request_response::PortFactory as ReqRespFactory;
+
+/// Service type used by every port of this crate: thread-safe ports, so a server can hand
+/// an active request to a worker thread. It shares the shared-memory layout with
+/// `ipc::Service`.
+pub type Svc = ipc_threadsafe::Service;
+
+/// The map service's factory.
+pub type MapService = PubSubFactory<Svc, [u32], MapHeader>;
+/// The plan service's factory.
+pub type PlanService = ReqRespFactory<Svc, PlanRequest, (), [Waypoint], PlanResponseHeader>;
+/// An event service's factory.
+pub type EventService = EventFactory<Svc>;
+
+/// Shared service limits. The server creates the services with these; clients open with
+/// the same values (iceoryx2 checks that an opened service supports at least them).
+#[derive(Clone, Debug)]
+pub struct Limits {
+    /// Plan clients (and map publishers) at once.
+    pub max_clients: usize,
+    /// Nodes that may open one service.
+    pub max_nodes: usize,
+    /// Map frames a publisher keeps for late subscribers (the last versions uploaded).
+    pub map_history: usize,
+}
+
+impl Default for Limits {
+    fn default() -> Self {
+        Limits {
+            max_clients: 64,
+            max_nodes: 128,
+            map_history: 4,
+        }
+    }
+}
+
+/// Service names under a prefix.
+#[derive(Clone, Debug)]
+pub struct Names {
+    /// The prefix, e.g. `planner` or `test-1234`.
+    pub prefix: String,
+}
+
+impl Names {
+    /// Names under `prefix`.
+    pub fn new(prefix: &str) -> Self {
+        Names {
+            prefix: prefix.to_string(),
+        }
+    }
+
+    fn name(&self, suffix: &str) -> Result<ServiceName, anyhow::Error> {
+        let text = format!("{}/{suffix}", self.prefix);
+        ServiceName::new(&text).map_err(|e| anyhow::anyhow!("bad service name {text:?}: {e:?}"))
+    }
+
+    /// `P/map`.
+    pub fn map(&self) -> anyhow::Result<ServiceName> {
+        self.name("map")
+    }
+
+    /// `P/plan`.
+    pub fn plan(&self) -> anyhow::Result<ServiceName> {
+        self.name("plan")
+    }
+
+    /// `P/plan-wake`.
+    pub fn plan_wake(&self) -> anyhow::Result<ServiceName> {
+        self.name("plan-wake")
+    }
+
+    /// `P/client-wake/T`.
+    pub fn client_wake(&self, token: u64) -> anyhow::Result<ServiceName> {
+        self.name(&format!("client-wake/{token:016x}"))
+    }
+}
+
+/// A node with iceoryx2's own signal handling off (the binaries handle SIGINT/SIGTERM).
+pub fn node(name: &str) -> anyhow::Result<Node<Svc>> {
+    let name = NodeName::new(name).map_err(|e| anyhow::anyhow!("bad node name: {e:?}"))?;
+    NodeBuilder::new()
+        .name(&name)
+        .signal_handling_mode(SignalHandlingMode::Disabled)
+        .create::<Svc>()
+        .map_err(|e| anyhow::anyhow!("cannot create iceoryx2 node: {e:?}"))
+}
+
+/// Opens or creates the map service.
+pub fn map_service(node: &Node<Svc>, names: &Names, limits: &Limits) -> anyhow::Result<MapService> {
+    node.service_builder(&names.map()?)
+        .publish_subscribe::<[u32]>()
+        .user_header::<MapHeader>()
+        .history_size(limits.map_history)
+        .subscriber_max_buffer_size(limits.map_history.max(2))
+        .max_publishers(limits.max_clients)
+        .max_subscribers(8)
+        .max_nodes(limits.max_nodes)
+        .open_or_create()
+        .map_err(|e| anyhow::anyhow!("map service: {e:?}"))
+}
+
+/// Opens or creates the plan service (the server).
+pub fn plan_service_create(
+    node: &Node<Svc>,
+    names: &Names,
+    limits: &Limits,
+) -> anyhow::Result<PlanService> {
+    plan_builder(node, names, limits)?
+        .open_or_create()
+        .map_err(|e| anyhow::anyhow!("plan service: {e:?}"))
+}
+
+/// Opens the plan service (a client): fails when no server ever created it.
+pub fn plan_service_open(
+    node: &Node<Svc>,
+    names: &Names,
+    limits: &Limits,
+) -> anyhow::Result<PlanService> {
+    plan_builder(node, names, limits)?
+        .open()
+        .map_err(|e| anyhow::anyhow!("plan service: {e:?}"))
+}
+
+fn plan_builder(
+    node: &Node<Svc>,
+    names: &Names,
+    limits: &Limits,
+) -> anyhow::Result<
+    iceoryx2::service::builder::request_response::Builder<
+        PlanRequest,
+        (),
+        [Waypoint],
+        PlanResponseHeader,
+        Svc,
+    >,
+> {
+    Ok(node
+        .service_builder(&names.plan()?)
+        .request_response::<PlanRequest, [Waypoint]>()
+        .response_user_header::<PlanResponseHeader>()
+        // Never overwrite a queued request or response: every request gets its answer.
+        .enable_safe_overflow_for_requests(false)
+        .enable_safe_overflow_for_responses(false)
+        .max_active_requests_per_client(4)
+        .max_response_buffer_size(4)
+        .max_servers(2)
+        .max_clients(limits.max_clients)
+        .max_nodes(limits.max_nodes))
+}
+
+/// Opens or creates an event service.
+pub fn event_service(
+    node: &Node<Svc>,
+    name: &ServiceName,
+    limits: &Limits,
+) -> anyhow::Result<EventService> {
+    node.service_builder(name)
+        .event()
+        .max_notifiers(limits.max_clients + 2)
+        .max_listeners(4)
+        .max_nodes(limits.max_nodes)
+        .open_or_create()
+        .map_err(|e| anyhow::anyhow!("event service {name}: {e:?}"))
+}
+
+/// Removes what dead nodes (crashed servers or clients) left behind; returns how many
+/// dead nodes were cleaned up.
+pub fn cleanup_dead_nodes(node: &Node<Svc>) -> usize {
+    let mut cleaned = 0;
+    let result = Node::<Svc>::list(node.config(), |state| {
+        if let NodeState::Dead(view) = state {
+            let name = view
+                .details()
+                .as_ref()
+                .map(|d| d.name().to_string())
+                .unwrap_or_default();
+            match view.blocking_remove_stale_resources(std::time::Duration::from_millis(500)) {
+                Ok(()) => {
+                    log::info!("removed stale resources of dead node {name:?}");
+                    cleaned += 1;
+                }
+                Err(e) => log::warn!("cannot clean up dead node {name:?}: {e:?}"),
+            }
+        }
+        CallbackProgression::Continue
+    });
+    if let Err(e) = result {
+        log::warn!("cannot list nodes: {e:?}");
+    }
+    cleaned
+}
+
+/// Lowers iceoryx2's own log level to errors unless `RUST_LOG` mentions `iceoryx2` (it
+/// warns about the missing optional config file on every start, and dumps whole configs).
+pub fn quiet_iceoryx_logs() {
+    let wanted = std::env::var("RUST_LOG").is_ok_and(|v| v.contains("iceoryx2"));
+    if !wanted {
+        iceoryx2::prelude::set_log_level(LogLevel::Error);
+    }
+}
+
+/// Slice capacity of a map publisher: a whole 512 x 512 frame.
+pub const MAP_SLICE_CAPACITY: usize = MAP_WORDS;
+/// Slice capacity of a plan server's responses.
+pub const PATH_SLICE_CAPACITY: usize = MAX_WAYPOINTS;

@@ -1,0 +1,158 @@
+//! Firmware proof for QEMU's `mps2-an386` (Cortex-M4F): runs the shared [`scenario`] with
+//! every piece of planner state in a `static`, prints integer results, the cost of each plan
+//! in SysTick ticks (instructions under `-icount shift=0`), the peak stack (painting) and
+//! the digest over semihosting, and exits 0 when every plan succeeded with a valid path,
+//! 1 otherwise.
+#![no_std]
+#![no_main]
+
+use core::ptr::addr_of_mut;
+use core::sync::atomic::{AtomicU32, Ordering};
+
+use cortex_m::peripheral::SYST;
+use cortex_m::peripheral::syst::SystClkSource;
+use cortex_m_rt::{entry, exception};
+use cortex_m_semihosting::{debug, hprintln};
+use panic_semihosting as _;
+use planner_core::search::SearchNode;
+
+mod scenario;
+use scenario::{CASES, Nodes, Outcome, Storage};
+
+/// All planner state lives in statics (the linker checks them against the RAM budget).
+/// The A* nodes are all-zero: `.bss`.
+static mut NODES: Nodes = [SearchNode::EMPTY; scenario::CELLS];
+/// Map, paths, stations and optimizers.
+static mut STORAGE: Storage = Storage::new();
+
+/// SysTick wraps (the counter is 24 bits).
+static WRAPS: AtomicU32 = AtomicU32::new(0);
+const RELOAD: u32 = 0x00FF_FFFF;
+
+#[exception]
+fn SysTick() {
+    WRAPS.fetch_add(1, Ordering::Relaxed);
+}
+
+/// Ticks since SysTick started (core clock: with `-icount shift=0` one instruction is 1 ns
+/// and the 25 MHz SysTick ticks every 40 instructions).
+fn ticks() -> u64 {
+    loop {
+        let w = WRAPS.load(Ordering::Relaxed);
+        let cvr = SYST::get_current();
+        if WRAPS.load(Ordering::Relaxed) == w && !SYST::has_wrapped_peek() {
+            return w as u64 * (RELOAD as u64 + 1) + (RELOAD - cvr) as u64;
+        }
+    }
+}
+
+trait PeekWrap {
+    fn has_wrapped_peek() -> bool;
+}
+impl PeekWrap for SYST {
+    /// Whether a wrap is pending (COUNTFLAG would clear on read, so look at the ICSR
+    /// PENDSTSET bit instead).
+    fn has_wrapped_peek() -> bool {
+        cortex_m::peripheral::SCB::is_pendst_pending()
+    }
+}
+
+/// Bytes of stack ever used: the painted region below the stack top that was overwritten.
+fn peak_stack() -> u32 {
+    unsafe extern "C" {
+        static mut _stack_start: u32;
+        static mut _stack_end: u32;
+    }
+    let (top, end) = (
+        addr_of_mut!(_stack_start) as usize,
+        addr_of_mut!(_stack_end) as usize,
+    );
+    let mut p = end;
+    while p < top {
+        // SAFETY: `p` lies in the stack region, word-aligned, below the live stack.
+        let v = unsafe { core::ptr::read_volatile(p as *const u32) };
+        if v != cortex_m_rt::STACK_PAINT_VALUE {
+            break;
+        }
+        p += 4;
+    }
+    (top - p) as u32
+}
+
+fn print(name: &str, o: &Outcome, ticks: u64) {
+    hprintln!(
+        "case {} status={} valid={} length_milli={} length_bits={:#010x} evaluations={} iterations={} waypoints={} ticks={} instructions={} digest={:#018x}",
+        name,
+        o.status,
+        o.valid,
+        o.length_milli,
+        o.length_bits,
+        o.evaluations,
+        o.iterations,
+        o.waypoints,
+        ticks,
+        ticks * 40,
+        o.digest
+    );
+}
+
+#[entry]
+fn main() -> ! {
+    let mut cp = cortex_m::Peripherals::take().unwrap();
+    cp.SYST.set_clock_source(SystClkSource::Core);
+    cp.SYST.set_reload(RELOAD);
+    cp.SYST.clear_current();
+    cp.SYST.enable_interrupt();
+    cp.SYST.enable_counter();
+    // The counter reads 0 until its first reload: wait for it so that tick readings are
+    // monotonic from the start.
+    while SYST::get_current() == 0 {}
+
+    // SAFETY: the only reference to STORAGE, taken once before any interrupt could use it
+    // (the SysTick handler does not touch it).
+    let s: &mut Storage = unsafe { &mut *addr_of_mut!(STORAGE) };
+    // SAFETY: as above.
+    let nodes: &mut Nodes = unsafe { &mut *addr_of_mut!(NODES) };
+    let mut digests = [0u64; CASES.len() + 1];
+    let mut count = 0;
+    let mut ok = true;
+    let mut loaded = 0;
+    for (i, case) in CASES.iter().enumerate() {
+        if case.side != loaded {
+            if scenario::load(s, case.side).is_err() {
+                hprintln!("map {} failed", case.side);
+                debug::exit(debug::EXIT_FAILURE);
+            }
+            loaded = case.side;
+        }
+        let t0 = ticks();
+        let o = scenario::run_case(s, nodes, i);
+        let t = ticks() - t0;
+        print(case.name, &o, t);
+        ok &= o.status == 0 && o.valid == 1;
+        digests[count] = o.digest;
+        count += 1;
+    }
+    // PENDING DWA: returns None until planner_core::dwa is merged.
+    let t0 = ticks();
+    match scenario::dwa_control_loop(s) {
+        Some(o) => {
+            let t = ticks() - t0;
+            print("dwa", &o, t);
+            ok &= o.status == 0;
+            digests[count] = o.digest;
+            count += 1;
+        }
+        None => hprintln!("case dwa pending"),
+    }
+    hprintln!("stack_peak_bytes={}", peak_stack());
+    hprintln!("digest={:#018x}", scenario::combine(&digests[..count]));
+    debug::exit(if ok {
+        debug::EXIT_SUCCESS
+    } else {
+        debug::EXIT_FAILURE
+    });
+    loop {
+        cortex_m::asm::wfi();
+    }
+}

@@ -1,0 +1,6 @@
+//! `planner-server` linked into this package, so that cross-process tests here can find it
+//! with `env!("CARGO_BIN_EXE_ipc-test-server")` under a plain `cargo test --workspace`.
+
+fn main() -> anyhow::Result<()> {
+    planner_ipc::cli::server::main()
+}

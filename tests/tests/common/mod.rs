@@ -1,0 +1,163 @@
+//! Helpers for the cross-process tests: child processes that are always killed and
+//! reaped (no zombies, no servers left running), unique service prefixes, test maps.
+
+#![allow(dead_code)]
+
+use planner_ipc::client::{ClientConfig, PlannerClient};
+use planner_ipc::services::Names;
+use std::io::Read;
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+
+/// A unique service prefix for one test (process id + test name).
+pub fn prefix(test: &str) -> String {
+    format!("it-{}-{test}", std::process::id())
+}
+
+/// A vendored Moving AI map.
+pub fn data(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("data/movingai")
+        .join(name)
+}
+
+/// A scratch directory for one test.
+pub fn scratch_dir(prefix: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(prefix);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// Writes a Moving AI map of `width x height` where `blocked(x, y)` marks obstacles.
+pub fn write_map(path: &Path, width: usize, height: usize, blocked: impl Fn(usize, usize) -> bool) {
+    let mut text = format!("type octile\nheight {height}\nwidth {width}\nmap\n");
+    for y in 0..height {
+        for x in 0..width {
+            text.push(if blocked(x, y) { '@' } else { '.' });
+        }
+        text.push('\n');
+    }
+    std::fs::write(path, text).unwrap();
+}
+
+/// A child process that is killed and reaped when dropped.
+pub struct Proc {
+    pub child: Child,
+    pub log: Option<PathBuf>,
+}
+
+impl Proc {
+    /// Sends a signal by name (`TERM`, `INT`, `KILL`) through `kill(1)`.
+    pub fn signal(&self, name: &str) {
+        let status = Command::new("kill")
+            .arg(format!("-{name}"))
+            .arg(self.child.id().to_string())
+            .status()
+            .unwrap();
+        assert!(status.success());
+    }
+
+    /// Waits for the exit status, at most `timeout`.
+    pub fn wait_exit(&mut self, timeout: Duration) -> Option<std::process::ExitStatus> {
+        let began = Instant::now();
+        while began.elapsed() < timeout {
+            if let Some(status) = self.child.try_wait().unwrap() {
+                return Some(status);
+            }
+            std::thread::sleep(Duration::from_millis(10));
+        }
+        None
+    }
+
+    /// The log written so far.
+    pub fn log_text(&self) -> String {
+        self.log
+            .as_ref()
+            .and_then(|p| std::fs::read_to_string(p).ok())
+            .unwrap_or_default()
+    }
+
+    /// Kills (SIGKILL) and reaps the process now.
+    pub fn kill(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+impl Drop for Proc {
+    fn drop(&mut self) {
+        self.kill();
+    }
+}
+
+/// Starts `ipc-test-server` (the `planner-server` program) and waits until it is ready.
+pub fn start_server(prefix: &str, extra: &[&str]) -> Proc {
+    let log = scratch_dir(prefix).join(format!("server-{}.log", rand_suffix()));
+    let file = std::fs::File::create(&log).unwrap();
+    let child = Command::new(env!("CARGO_BIN_EXE_ipc-test-server"))
+        .args(["--prefix", prefix])
+        .args(extra)
+        .env("RUST_LOG", "info")
+        .stdout(Stdio::null())
+        .stderr(file)
+        .spawn()
+        .unwrap();
+    let proc = Proc {
+        child,
+        log: Some(log),
+    };
+    let began = Instant::now();
+    while !proc.log_text().contains("planner-server ready") {
+        assert!(
+            began.elapsed() < Duration::from_secs(20),
+            "server did not start:\n{}",
+            proc.log_text()
+        );
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    proc
+}
+
+fn rand_suffix() -> u128 {
+    std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .unwrap()
+        .as_nanos()
+}
+
+/// Spawns `ipc-test-driver` with piped stdout.
+pub fn driver(args: &[&str]) -> Proc {
+    let child = Command::new(env!("CARGO_BIN_EXE_ipc-test-driver"))
+        .args(args)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::inherit())
+        .spawn()
+        .unwrap();
+    Proc { child, log: None }
+}
+
+/// Reads a driver's whole stdout (until it closes it), then reaps the driver.
+pub fn driver_output(proc: &mut Proc, timeout: Duration) -> String {
+    let mut out = String::new();
+    // Read first: a driver blocked on a full pipe would never exit.
+    proc.child
+        .stdout
+        .take()
+        .unwrap()
+        .read_to_string(&mut out)
+        .unwrap();
+    let status = proc.wait_exit(timeout).expect("driver did not finish");
+    assert!(status.success(), "driver failed: {status:?}");
+    out
+}
+
+/// An in-process client (the test process is itself a client process).
+pub fn client(prefix: &str) -> PlannerClient {
+    PlannerClient::new(ClientConfig {
+        names: Names::new(prefix),
+        node_name: format!("test-client-{}", std::process::id()),
+        ..ClientConfig::default()
+    })
+    .unwrap()
+}

@@ -1,0 +1,56 @@
+//! The firmware scenario on the host: the same code (`tests/firmware/src/scenario.rs`) must
+//! give the same digest as the emulated Cortex-M4F. `tests/firmware/DIGEST` holds the digest
+//! the MCU printed; `tests/firmware/run.sh` checks the MCU against it and against this test's
+//! output, so a change on either side fails.
+//!
+//! `cargo test -p integration-tests --test firmware_digest -- --nocapture` prints the same
+//! `case ...` lines (without the tick counts) and `digest=...` as the firmware.
+
+#[allow(dead_code)]
+#[path = "../firmware/src/scenario.rs"]
+mod scenario;
+
+use planner_core::search::SearchNode;
+use scenario::{CASES, Nodes, Storage};
+
+#[test]
+fn host_digest_matches_the_mcu() {
+    let mut s = Box::new(Storage::new());
+    let mut nodes: Box<Nodes> = vec![SearchNode::EMPTY; scenario::CELLS]
+        .into_boxed_slice()
+        .try_into()
+        .unwrap();
+    let mut digests = Vec::new();
+    let mut loaded = 0;
+    for (i, case) in CASES.iter().enumerate() {
+        if case.side != loaded {
+            scenario::load(&mut s, case.side).unwrap();
+            loaded = case.side;
+        }
+        let o = scenario::run_case(&mut s, &mut nodes, i);
+        println!(
+            "case {} status={} valid={} length_milli={} length_bits={:#010x} evaluations={} iterations={} waypoints={} digest={:#018x}",
+            case.name,
+            o.status,
+            o.valid,
+            o.length_milli,
+            o.length_bits,
+            o.evaluations,
+            o.iterations,
+            o.waypoints,
+            o.digest
+        );
+        assert_eq!((o.status, o.valid), (0, 1), "{}", case.name);
+        digests.push(o.digest);
+    }
+    if let Some(o) = scenario::dwa_control_loop(&mut s) {
+        digests.push(o.digest);
+    }
+    let digest = format!("{:#018x}", scenario::combine(&digests));
+    println!("digest={digest}");
+    let mcu = include_str!("../firmware/DIGEST").trim();
+    assert_eq!(
+        digest, mcu,
+        "host digest differs from the one the emulated MCU printed (tests/firmware/DIGEST)"
+    );
+}

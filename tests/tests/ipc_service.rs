@@ -1,0 +1,303 @@
+//! The planner service across real processes: one `planner-server` process (linked here
+//! as `ipc-test-server`), clients in this test process, in `ipc-test-driver` processes and
+//! in the `planner-client` CLI (`ipc-test-client`).
+
+mod common;
+
+use common::*;
+use planner_core::PlanError;
+use planner_ipc::client::{ClientError, parse_map};
+use planner_ipc::wire::{Algorithm, PlanParams, PlanRequest, RequestKind, ServiceError};
+use std::process::Command;
+use std::time::{Duration, Instant};
+
+const WAREHOUSE: &str = "warehouse-10-20-10-2-1.map";
+const T: Duration = Duration::from_secs(5);
+
+fn req(map: (u32, u32), start: [i32; 2], goal: [i32; 2], algo: Algorithm) -> PlanRequest {
+    PlanRequest::new(map, start, goal, algo)
+}
+
+/// Every bad request gets its typed error and the server keeps serving the good ones;
+/// SIGTERM then stops the server cleanly.
+#[test]
+fn typed_errors_while_the_server_keeps_serving() {
+    let p = prefix("errors");
+    let dir = scratch_dir(&p);
+    // This server accepts at most 100,000 cells (the frame carries up to 512 x 512).
+    let mut server = start_server(&p, &["--max-cells", "100000"]);
+    let mut c = client(&p);
+    let v1 = c.upload_map_file(&data(WAREHOUSE), 1).unwrap();
+    c.wait_for_map(1, v1, T).unwrap();
+    let good = req((1, v1), [143, 57], [10, 16], Algorithm::ThetaStar);
+    let ok = c.plan(&good, T).unwrap();
+    assert!((ok.length - 157.0114).abs() < 1e-3, "{}", ok.length);
+    assert_eq!(ok.path.len(), 4);
+    // Every planner of planner-core is served; the swarm planners are deterministic per seed.
+    for algo in Algorithm::ALL {
+        let mut r = req((1, v1), [143, 57], [10, 16], algo);
+        r.params.iterations = 40.0;
+        r.seed = 7;
+        let a = c
+            .plan(&r, T)
+            .unwrap_or_else(|e| panic!("{}: {e}", algo.name()));
+        assert!(
+            a.length < 160.53 * 1.2 && a.length > 140.0,
+            "{}: {}",
+            algo.name(),
+            a.length
+        );
+        assert_eq!(a.path.first().map(|p| (p.x, p.y)), Some((143.0, 57.0)));
+        assert_eq!(a.path.last().map(|p| (p.x, p.y)), Some((10.0, 16.0)));
+        if algo.kind().is_stochastic() {
+            assert_eq!(
+                c.plan(&r, T).unwrap(),
+                a,
+                "{} is not deterministic",
+                algo.name()
+            );
+        }
+    }
+    let still_serving = |c: &mut planner_ipc::client::PlannerClient, map: (u32, u32)| {
+        let mut r = good;
+        r.map_id = map.0;
+        r.map_version = map.1;
+        assert!(c.plan(&r, T).is_ok(), "server stopped serving");
+    };
+
+    // A map beyond the server's configured capacity: 400 x 300 = 120,000 cells.
+    let big = dir.join("big.map");
+    write_map(&big, 400, 300, |x, y| x % 7 == 3 && y % 5 != 0);
+    let v2 = c.upload_map_file(&big, 2).unwrap();
+    assert_eq!(
+        c.wait_for_map(2, v2, T),
+        Err(ClientError::Service(ServiceError::MapTooLarge))
+    );
+    assert_eq!(
+        c.plan(&req((2, v2), [0, 0], [1, 1], Algorithm::AStar), T),
+        Err(ClientError::Service(ServiceError::MapTooLarge))
+    );
+    still_serving(&mut c, (1, v1));
+    // A map beyond the frame's capacity never leaves the client.
+    let huge = dir.join("huge.map");
+    write_map(&huge, 600, 600, |_, _| false);
+    assert_eq!(
+        c.upload_map_file(&huge, 3),
+        Err(ClientError::Service(ServiceError::MapTooLarge))
+    );
+
+    // Stale and unknown map versions.
+    let v1b = c.upload_map_file(&data(WAREHOUSE), 1).unwrap();
+    assert_eq!(v1b, v1 + 1);
+    c.wait_for_map(1, v1b, T).unwrap();
+    assert_eq!(
+        c.plan(&good, T),
+        Err(ClientError::Service(ServiceError::StaleMapVersion))
+    );
+    assert_eq!(
+        c.plan(&req((1, v1b + 5), [143, 57], [10, 16], Algorithm::AStar), T),
+        Err(ClientError::Service(ServiceError::UnknownMap))
+    );
+    assert_eq!(
+        c.plan(&req((99, 1), [143, 57], [10, 16], Algorithm::AStar), T),
+        Err(ClientError::Service(ServiceError::UnknownMap))
+    );
+    still_serving(&mut c, (1, v1b));
+
+    // Blocked and outside endpoints.
+    let grid = parse_map(&std::fs::read(data(WAREHOUSE)).unwrap()).unwrap();
+    let view = grid.view();
+    let blocked = (0..view.cells())
+        .map(|i| view.cell(i))
+        .find(|c| !view.is_free(*c))
+        .unwrap();
+    let blocked = [blocked.x as i32, blocked.y as i32];
+    let cases: Vec<(PlanRequest, ClientError)> = vec![
+        (
+            req((1, v1b), blocked, [10, 16], Algorithm::AStar),
+            ClientError::Plan(PlanError::StartOccupied),
+        ),
+        (
+            req((1, v1b), [143, 57], blocked, Algorithm::ThetaStar),
+            ClientError::Plan(PlanError::GoalOccupied),
+        ),
+        (
+            req((1, v1b), [-1, 57], [10, 16], Algorithm::AStar),
+            ClientError::Plan(PlanError::StartOutsideMap),
+        ),
+        (
+            req((1, v1b), [143, 57], [10, 6000], Algorithm::AStar),
+            ClientError::Plan(PlanError::GoalOutsideMap),
+        ),
+        (
+            PlanRequest {
+                algorithm: 200,
+                ..req((1, v1b), [143, 57], [10, 16], Algorithm::AStar)
+            },
+            ClientError::Service(ServiceError::UnknownAlgorithm),
+        ),
+        (
+            PlanRequest {
+                params: PlanParams {
+                    radius: f32::NAN,
+                    ..PlanParams::default()
+                },
+                ..req((1, v1b), [143, 57], [10, 16], Algorithm::AStar)
+            },
+            ClientError::Plan(PlanError::InvalidParameters),
+        ),
+        (
+            PlanRequest {
+                params: PlanParams {
+                    iterations: f32::NAN,
+                    population: f32::INFINITY,
+                    ..PlanParams::default()
+                },
+                ..req((1, v1b), [143, 57], [10, 16], Algorithm::ThetaStar)
+            },
+            ClientError::Plan(PlanError::InvalidParameters),
+        ),
+        (
+            PlanRequest {
+                kind: 42,
+                ..req((1, v1b), [143, 57], [10, 16], Algorithm::AStar)
+            },
+            ClientError::Service(ServiceError::InvalidRequest),
+        ),
+    ];
+    for (request, want) in cases {
+        assert_eq!(c.plan(&request, T), Err(want.clone()), "{request:?}");
+        still_serving(&mut c, (1, v1b));
+    }
+    let mut status = req((1, v1b), [0, 0], [0, 0], Algorithm::AStar);
+    status.kind = RequestKind::MapStatus as u8;
+    assert!(c.plan(&status, T).is_ok());
+
+    // SIGTERM: clean shutdown with exit status 0 and a final log line.
+    server.signal("TERM");
+    let exit = server.wait_exit(T).expect("server ignored SIGTERM");
+    assert!(exit.success(), "{exit:?}\n{}", server.log_text());
+    let log = server.log_text();
+    assert!(log.contains("planner-server stopped"), "{log}");
+    assert!(log.contains("rejected: MapTooLarge"), "{log}");
+    // Without a server the client reports it (no hang).
+    drop(c);
+    let mut c = client(&p);
+    let err = c.plan(&good, Duration::from_millis(300)).unwrap_err();
+    assert!(
+        matches!(err, ClientError::NoServer | ClientError::Timeout),
+        "{err:?}"
+    );
+}
+
+/// The CLI for people prints the same JSON lines as `host-sim plan`; SIGINT stops the server.
+#[test]
+fn cli_prints_host_sim_json_lines() {
+    let p = prefix("cli");
+    let dir = scratch_dir(&p);
+    let mut server = start_server(&p, &["--workers", "2"]);
+    let queries = dir.join("q.txt");
+    std::fs::write(&queries, "143 57 10 16\n0 0 5 5\nnot a query\n1 1 1 1\n").unwrap();
+    let map = data(WAREHOUSE);
+    let out = Command::new(env!("CARGO_BIN_EXE_ipc-test-client"))
+        .args(["--prefix", &p, "plan", "--map"])
+        .arg(&map)
+        .args(["--algo", "theta", "--queries"])
+        .arg(&queries)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let lines: Vec<serde_json::Value> = String::from_utf8(out.stdout)
+        .unwrap()
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    assert_eq!(lines.len(), 4);
+    let keys =
+        |v: &serde_json::Value| -> Vec<String> { v.as_object().unwrap().keys().cloned().collect() };
+    assert_eq!(
+        keys(&lines[0]),
+        [
+            "start", "goal", "path", "length", "time_us", "turns", "expanded", "algo", "seed"
+        ]
+    );
+    assert_eq!(
+        lines[0]["path"],
+        serde_json::json!([[143, 57], [135, 43], [25, 43], [10, 16]])
+    );
+    assert_eq!(lines[0]["length"], serde_json::json!(157.0114));
+    assert_eq!(lines[0]["algo"], "theta");
+    assert_eq!(
+        keys(&lines[1]),
+        ["start", "goal", "error", "time_us", "algo", "seed"]
+    );
+    assert_eq!(lines[2]["error"], "MalformedQuery");
+    assert_eq!(lines[3]["path"], serde_json::json!([[1, 1]]));
+    // An algorithm the server does not serve comes back typed.
+    let out = Command::new(env!("CARGO_BIN_EXE_ipc-test-client"))
+        .args(["--prefix", &p, "plan", "--map"])
+        .arg(&map)
+        .args(["--algo", "dijkstra", "--start", "143,57", "--goal", "10,16"])
+        .output()
+        .unwrap();
+    let line: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(line["error"], "UnknownAlgorithm");
+    server.signal("INT");
+    let exit = server.wait_exit(T).expect("server ignored SIGINT");
+    assert!(exit.success(), "{}", server.log_text());
+}
+
+/// A 512 x 512 serpentine: Theta* from one corner to the other expands almost every cell,
+/// so one request keeps the server busy for a noticeable time.
+fn write_serpentine(path: &std::path::Path) {
+    write_map(path, 512, 512, |x, y| {
+        (x % 4 == 1 && y != 511) || (x % 4 == 3 && y != 0)
+    });
+}
+
+/// A client process killed mid-request leaves the server unaffected, and a client that
+/// gives up (timeout) has its request skipped and gets no stale answer later.
+#[test]
+fn client_killed_mid_request_leaves_server_unaffected() {
+    let p = prefix("kill");
+    let dir = scratch_dir(&p);
+    let server = start_server(&p, &[]);
+    let maze = dir.join("serpentine.map");
+    write_serpentine(&maze);
+    let mut c = client(&p);
+    let v = c.upload_map_file(&maze, 1).unwrap();
+    c.wait_for_map(1, v, T).unwrap();
+    let long = req((1, v), [0, 0], [510, 511], Algorithm::ThetaStar);
+    let began = Instant::now();
+    let expected = c.plan(&long, Duration::from_secs(30)).unwrap();
+    let one_plan = began.elapsed();
+    eprintln!("one long plan: {one_plan:?}");
+
+    // A hammering client process, killed with SIGKILL while its requests are in flight.
+    let v_text = v.to_string();
+    for _ in 0..3 {
+        let mut hammer = driver(&["hammer", &p, "1", &v_text, "0", "0", "510", "511"]);
+        std::thread::sleep(one_plan / 2 + Duration::from_millis(20));
+        hammer.kill();
+    }
+    // This client's own give-up: a timeout far below one plan.
+    assert_eq!(
+        c.plan(&long, Duration::from_millis(1)),
+        Err(ClientError::Timeout)
+    );
+    // The server goes on serving, with the right answer for the right request.
+    let short = req((1, v), [0, 0], [0, 5], Algorithm::AStar);
+    let got = c.plan(&short, Duration::from_secs(30)).unwrap();
+    assert_eq!(got.path.len(), 6);
+    let again = c.plan(&long, Duration::from_secs(30)).unwrap();
+    assert_eq!(again, expected);
+    let log = server.log_text();
+    assert!(
+        log.contains("cancelled") || log.contains("client gone"),
+        "the server did not notice a client giving up:\n{log}"
+    );
+}
