@@ -215,7 +215,7 @@ pub fn demo(args: &DemoArgs) -> anyhow::Result<()> {
 
 /// A random free cell, or one of `choices` (when not empty) with probability 1/2.
 fn random_free(grid: GridRef<'_>, rng: &mut Xoshiro256PlusPlus, choices: &[Cell]) -> Option<Cell> {
-    if !choices.is_empty() && rng.next_u32() % 2 == 0 {
+    if !choices.is_empty() && rng.next_u32().is_multiple_of(2) {
         return Some(choices[(rng.next_u64() % choices.len() as u64) as usize]);
     }
     for _ in 0..10_000 {

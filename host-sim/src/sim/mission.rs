@@ -2,6 +2,7 @@
 //! is blocked or the robot is stuck, and measure everything the report needs.
 
 use super::kinematics::DiffDrive;
+use super::pathfit::{self, FitParams};
 use super::planner::{GlobalPlanner, PlanFailure, PlanRequest, PlannedPath, copy_grid};
 use super::world::{Agent, Kind, World};
 use crate::maps::HostGrid;
@@ -224,7 +225,10 @@ pub fn run_with_progress(
         .set_map(grid)
         .and_then(|()| planner.plan(&request(start_cell, spec.seed)));
     let mut path = match first {
-        Ok(p) => p,
+        Ok(mut p) => {
+            p.points = pathfit::fit(grid, &p.points, &FitParams::default());
+            p
+        }
         Err(PlanFailure::Unreachable) => {
             result.outcome = Outcome::Unreachable;
             return result;
@@ -267,7 +271,7 @@ pub fn run_with_progress(
     let mut steps = 0u32;
     while t < limit {
         steps += 1;
-        if steps % 10 == 0 {
+        if steps.is_multiple_of(10) {
             tick(t, limit);
         }
         let discs = world.discs();
@@ -330,12 +334,14 @@ pub fn run_with_progress(
                     .set_map(tmp.view())
                     .and_then(|()| planner.plan(&request(from, replan_seed)));
                 on_temp_map = true;
-                if let Ok(p) = planned {
-                    // Start the new path at the robot, not at its cell centre.
-                    path = p;
-                    if let Some(first) = path.points.first_mut() {
+                if let Ok(mut p) = planned {
+                    // Start the new path at the robot, not at its cell centre, and keep it
+                    // off the walls and off the standing obstacles marked on `tmp`.
+                    if let Some(first) = p.points.first_mut() {
                         *first = state.position();
                     }
+                    p.points = pathfit::fit(tmp.view(), &p.points, &FitParams::default());
+                    path = p;
                     result.replans += 1;
                     result.plans.push(record(reason, t, &path, spec.record));
                     dwa.reset_path();

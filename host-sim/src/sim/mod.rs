@@ -5,11 +5,13 @@
 //! - [`kinematics`]: differential drive with limits;
 //! - [`world`]: people and robots moving along aisles (scripted and random);
 //! - [`mission`]: one mission and its measurements;
+//! - [`pathfit`]: global paths pushed off the walls before DWA follows them;
 //! - [`scenarios`]: the hard cases (`host-sim scenarios`, `tests/scenarios.rs`);
 //! - [`report`]: pictures and JSON.
 
 pub mod kinematics;
 pub mod mission;
+pub mod pathfit;
 pub mod planner;
 pub mod report;
 pub mod scenarios;
