@@ -7,6 +7,7 @@
 //! - `bench paper|movingai|speed`: the papers' tables, quality and speed benchmarks;
 //! - `maps`: write the seed-style maps as `.map` files.
 //! - `terrain`: 3D terrain planning, seed 001's experiments 1-3 (tables 2-7) and a benchmark.
+//! - `serve` (hidden): the planner service over iceoryx2, started by `--planner ipc`;
 //! - `render-demo` (hidden): write example pictures (see `render`) into `target/render-demo/`.
 
 use clap::{Parser, Subcommand};
@@ -51,6 +52,9 @@ enum Command {
     /// Write example pictures (maps, terrain, convergence) to look at the renderer.
     #[command(hide = true)]
     RenderDemo(cmd::render_demo::RenderDemoArgs),
+    /// The planner service over iceoryx2 (what `--planner ipc` starts when none runs).
+    #[command(hide = true)]
+    Serve(cmd::serve::ServeArgs),
 }
 
 fn main() -> anyhow::Result<()> {
@@ -65,5 +69,6 @@ fn main() -> anyhow::Result<()> {
         Command::Maps(args) => cmd::maps::run(&args),
         Command::Terrain(args) => cmd::terrain::run(&args),
         Command::RenderDemo(args) => cmd::render_demo::run(&args),
+        Command::Serve(args) => cmd::serve::run(&args),
     }
 }

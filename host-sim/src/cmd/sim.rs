@@ -1,7 +1,7 @@
 //! The simulator commands: `demo`, `run`, `scenarios`, `soak`.
 //!
 //! ```text
-//! host-sim demo [--out DIR] [--planner inproc]
+//! host-sim demo [--out DIR] [--planner ipc|inproc]
 //! host-sim run [--map FILE.map|FILE.yaml | layout options] --algo NAME [--robots K] [--people K] [--seed S] [--start X,Y --goal X,Y] [--out DIR]
 //! host-sim scenarios [--case NAME] [--algo NAME] [--out DIR] [--json]
 //! host-sim soak [--missions N] [--seed S] [--algo NAME] [--out DIR]
@@ -10,7 +10,7 @@
 use super::bench::{fmt, print_table, progress, write_json};
 use crate::mapsrc::{self, warehouse};
 use crate::sim::mission::{self, MissionResult, MissionSpec, Outcome};
-use crate::sim::planner::PlannerChoice;
+use crate::sim::planner::{GlobalPlanner, InProcess, PlanRequest, PlannerChoice};
 use crate::sim::scenarios::{self, mission_params};
 use crate::sim::{kinematics::DiffDrive, report};
 use anyhow::{Context, bail};
@@ -40,8 +40,9 @@ pub struct DemoArgs {
     /// Output directory.
     #[arg(long, default_value = "bench-out/demo")]
     pub out: PathBuf,
-    /// Global planner: inproc (planner-core in this process).
-    #[arg(long, value_enum, default_value_t = PlannerChoice::Inproc)]
+    /// Global planner: ipc (planner-server over iceoryx2, started if none runs) or inproc
+    /// (planner-core in this process).
+    #[arg(long, value_enum, default_value_t = PlannerChoice::Ipc)]
     pub planner: PlannerChoice,
     /// Seed of the planner and of the people and robots.
     #[arg(long, default_value_t = 7)]
@@ -76,8 +77,8 @@ pub struct RunArgs {
     /// Output directory.
     #[arg(long, default_value = "bench-out/run")]
     pub out: PathBuf,
-    /// Global planner: inproc.
-    #[arg(long, value_enum, default_value_t = PlannerChoice::Inproc)]
+    /// Global planner: ipc (planner-server over iceoryx2, started if none runs) or inproc.
+    #[arg(long, value_enum, default_value_t = PlannerChoice::Ipc)]
     pub planner: PlannerChoice,
     /// Layout of the generated warehouse (without `--map`).
     #[command(flatten)]
@@ -102,7 +103,7 @@ pub struct ScenariosArgs {
     /// Print one JSON object a case instead of the table.
     #[arg(long)]
     pub json: bool,
-    /// Global planner: inproc.
+    /// Global planner: inproc (planner-core in this process) or ipc (over iceoryx2).
     #[arg(long, value_enum, default_value_t = PlannerChoice::Inproc)]
     pub planner: PlannerChoice,
 }
@@ -122,7 +123,7 @@ pub struct SoakArgs {
     /// Output directory (report.json).
     #[arg(long, default_value = "bench-out/soak")]
     pub out: PathBuf,
-    /// Global planner: inproc.
+    /// Global planner: inproc (planner-core in this process) or ipc (over iceoryx2).
     #[arg(long, value_enum, default_value_t = PlannerChoice::Inproc)]
     pub planner: PlannerChoice,
     /// Required success rate (exit status 1 below it).
@@ -158,8 +159,19 @@ fn write_outputs(
 }
 
 /// Runs a mission with a progress bar over simulated time.
-fn run_with_bar(spec: &MissionSpec, planner: PlannerChoice) -> anyhow::Result<MissionResult> {
-    let mut planner = planner.build()?;
+fn run_with_bar(
+    spec: &MissionSpec,
+    choice: PlannerChoice,
+    out: &Path,
+) -> anyhow::Result<MissionResult> {
+    std::fs::create_dir_all(out).with_context(|| format!("cannot create {}", out.display()))?;
+    if choice == PlannerChoice::Ipc {
+        println!("connecting to planner-server over iceoryx2 (starting one if none runs) ...");
+    }
+    let mut planner = choice.build(Some(&out.join("planner-server.log")))?;
+    if choice == PlannerChoice::Ipc {
+        println!("global planner: {} over iceoryx2", spec.algo.name());
+    }
     let bar = progress(100, "driving");
     let result = mission::run_with_progress(spec, &mut *planner, &mut |t, limit| {
         bar.set_position((100.0 * t / limit).min(100.0) as u64);
@@ -167,6 +179,45 @@ fn run_with_bar(spec: &MissionSpec, planner: PlannerChoice) -> anyhow::Result<Mi
     });
     bar.finish_and_clear();
     Ok(result)
+}
+
+/// The service does not send the planner's per-iteration history: when the first plan came
+/// over iceoryx2, the same request (same seed) is planned again in this process for the
+/// convergence plot, and the JSON says whether both gave the same path length.
+fn convergence_in_process(
+    spec: &MissionSpec,
+    result: &mut MissionResult,
+) -> anyhow::Result<serde_json::Value> {
+    let Some(first) = result.plans.first_mut() else {
+        return Ok(json!(null));
+    };
+    if !first.history.is_empty() {
+        return Ok(json!({"source": "global planner"}));
+    }
+    let Some(start) = spec.start.position().cell(spec.grid.view()) else {
+        return Ok(json!(null));
+    };
+    let mut local = InProcess::new();
+    local
+        .set_map(spec.grid.view())
+        .map_err(anyhow::Error::msg)?;
+    let p = local
+        .plan(&PlanRequest {
+            start,
+            goal: spec.goal,
+            algo: spec.algo,
+            params: spec.params,
+            seed: spec.seed,
+        })
+        .map_err(anyhow::Error::msg)?;
+    let same = (p.length - first.length).abs() <= 1e-3 * first.length.max(1.0);
+    first.history = p.history;
+    Ok(json!({
+        "source": "same request planned again in this process (the service sends no history)",
+        "in_process_length": p.length,
+        "service_length": first.length,
+        "same_length": same,
+    }))
 }
 
 /// `host-sim demo`.
@@ -194,13 +245,15 @@ pub fn demo(args: &DemoArgs) -> anyhow::Result<()> {
         "demo: 40x40 seed-000 warehouse, TCLHHO global planner ({}), DWA, 3 people and 2 robots moving",
         args.planner.name()
     );
-    let result = run_with_bar(&spec, args.planner)?;
+    let mut result = run_with_bar(&spec, args.planner, &args.out)?;
+    let convergence = convergence_in_process(&spec, &mut result)?;
     write_outputs(
         &spec,
         &result,
         &[],
         &args.out,
-        json!({"algo": "tclhho", "planner": args.planner.name(), "seed": args.seed}),
+        json!({"algo": "tclhho", "planner": args.planner.name(), "seed": args.seed,
+               "convergence": convergence}),
     )?;
     println!("{}", report::summary(&result));
     println!(
@@ -302,14 +355,15 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
         args.people,
         args.robots
     );
-    let result = run_with_bar(&spec, args.planner)?;
+    let mut result = run_with_bar(&spec, args.planner, &args.out)?;
+    let convergence = convergence_in_process(&spec, &mut result)?;
     write_outputs(
         &spec,
         &result,
         &stations,
         &args.out,
         json!({"algo": args.algo.name(), "planner": args.planner.name(), "seed": args.seed,
-               "start": [start.x, start.y], "goal": [goal.x, goal.y]}),
+               "start": [start.x, start.y], "goal": [goal.x, goal.y], "convergence": convergence}),
     )?;
     println!("{}", report::summary(&result));
     println!("wrote pictures and report.json to {}", args.out.display());
@@ -331,10 +385,11 @@ pub fn scenarios(args: &ScenariosArgs) -> anyhow::Result<()> {
     }
     let mut rows = Vec::new();
     let mut failed = 0;
+    let mut planner = args.planner.build(None)?;
+    let planner = &mut planner;
     for sc in chosen {
         let spec = sc.mission(args.algo, 1)?;
-        let mut planner = args.planner.build()?;
-        let r = mission::run(&spec, &mut *planner);
+        let r = mission::run(&spec, &mut **planner);
         let pass = sc.passes(&r.outcome, r.collisions_static + r.collisions_dynamic);
         failed += usize::from(!pass);
         if !args.no_pictures && r.outcome != Outcome::Unreachable {
@@ -382,7 +437,7 @@ pub fn scenarios(args: &ScenariosArgs) -> anyhow::Result<()> {
 pub fn soak(args: &SoakArgs) -> anyhow::Result<()> {
     let bar = progress(args.missions as u64, "soak missions");
     let mut results = Vec::with_capacity(args.missions);
-    let mut planner = args.planner.build()?;
+    let mut planner = args.planner.build(None)?;
     for i in 0..args.missions {
         let seed = args.seed + i as u64;
         let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed ^ 0xA5A5_5A5A);

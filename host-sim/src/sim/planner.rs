@@ -1,7 +1,7 @@
 //! The global planner as the simulator sees it: a [`GlobalPlanner`] takes a map once and then
-//! answers plan requests. [`InProcess`] runs `planner-core` in this process; an iceoryx2
-//! client of `planner-server` implements the same trait (`--planner ipc`, added with the
-//! service).
+//! answers plan requests. [`InProcess`] runs `planner-core` in this process;
+//! [`super::ipc::IpcPlanner`], a client of `planner-server` over iceoryx2, implements the
+//! same trait (`--planner ipc`).
 
 use crate::maps::HostGrid;
 use planner_core::PlanError;
@@ -190,11 +190,14 @@ impl GlobalPlanner for InProcess {
     }
 }
 
-/// Which planner to use (`--planner`). The iceoryx2 client joins as `Ipc`.
+/// Which planner to use (`--planner`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 pub enum PlannerChoice {
     /// `planner-core` in this process.
     Inproc,
+    /// `planner-server` over iceoryx2: a server already serving the prefix `planner`, or
+    /// one this process starts (see [`super::ipc`]).
+    Ipc,
 }
 
 impl PlannerChoice {
@@ -202,13 +205,19 @@ impl PlannerChoice {
     pub fn name(self) -> &'static str {
         match self {
             PlannerChoice::Inproc => "inproc",
+            PlannerChoice::Ipc => "ipc",
         }
     }
 
-    /// The planner this choice names.
-    pub fn build(self) -> anyhow::Result<Box<dyn GlobalPlanner>> {
+    /// The planner this choice names; a started server logs to `log`.
+    pub fn build(self, log: Option<&std::path::Path>) -> anyhow::Result<Box<dyn GlobalPlanner>> {
         match self {
             PlannerChoice::Inproc => Ok(Box::new(InProcess::new())),
+            PlannerChoice::Ipc => Ok(Box::new(super::ipc::IpcPlanner::connect_or_start(
+                "planner",
+                Duration::from_millis(300),
+                log,
+            )?)),
         }
     }
 }
