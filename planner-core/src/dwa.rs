@@ -69,6 +69,10 @@ const STANDING_V: f32 = 1e-3;
 /// Bearing error to the carrot (rad) above which turning in place may be chosen.
 const ROTATE_IN_PLACE_ABOVE: f32 = core::f32::consts::FRAC_PI_4;
 
+/// Clearance (cells) below which a roll-out counts as touching: a small safety margin over
+/// the footprint radius, so that discretisation of the roll-out never lets the robot scrape.
+const CONTACT_MARGIN: f32 = 0.02;
+
 /// Smallest spans of the min-max normalisation (rad, cells, cells): see [`Range::norm`].
 const FLOOR_HEADING: f32 = 0.2;
 const FLOOR_DIST: f32 = 0.05;
@@ -110,7 +114,8 @@ pub struct DwaConfig {
     pub goal_tolerance: f32,
     /// Clearance above this counts the same in the `dist` term (cells).
     pub clearance_cap: f32,
-    /// Carrot distance along the global path (cells).
+    /// Carrot distance along the global path (cells); near obstacles it shrinks to the
+    /// robot centre's clearance, but not below half a cell.
     pub lookahead: f32,
     /// How long dynamic discs are predicted (s).
     pub dynamic_horizon: f32,
@@ -335,6 +340,7 @@ pub struct Dwa {
     pub config: DwaConfig,
     segment: usize,
     seg_t: f32,
+    lookahead: f32,
     clock: f32,
     anchor: Point,
     anchor_time: f32,
@@ -392,6 +398,7 @@ impl Dwa {
             config,
             segment: 0,
             seg_t: 0.0,
+            lookahead: config.lookahead,
             clock: 0.0,
             anchor: Point::new(f32::NAN, f32::NAN),
             anchor_time: 0.0,
@@ -453,6 +460,9 @@ impl Dwa {
         }
         self.clock += c.dt;
         let pos = state.position();
+        // In narrow places the carrot comes closer (down to half a cell in a one-cell
+        // aisle), so that the robot follows the path to a corner before turning.
+        self.lookahead = point_clearance(grid, pos, c.lookahead).clamp(0.5, c.lookahead);
         let (carrot, cross_track) = self.carrot(pos, path);
         let goal = path[path.len() - 1];
         let mut cmd = Command {
@@ -686,7 +696,7 @@ impl Dwa {
         let (d, s, t) = nearest_ahead(pos, path, self.segment, self.seg_t, span);
         self.segment = s;
         self.seg_t = t;
-        (walk(path, s, t, self.config.lookahead), d)
+        (walk(path, s, t, self.lookahead), d)
     }
 
     /// Rolls `(v, w)` out; `None` when inadmissible.
@@ -727,7 +737,7 @@ impl Dwa {
                     cl = cl.min(p.distance(q) - d.r - c.radius);
                 }
             }
-            if cl <= 0.0 {
+            if cl <= CONTACT_MARGIN {
                 // Contact: admissible only if the robot can brake before it.
                 let brake = v * v / (2.0 * c.acc_v);
                 if brake + 0.02 < arc - v.abs() * c.dt {
@@ -750,7 +760,7 @@ impl Dwa {
         } else {
             let span = c.v_max * c.predict + c.lookahead + 1.0;
             let (d, s, t) = nearest_ahead(end, path, self.segment, self.seg_t, span);
-            (d, walk(path, s, t, c.lookahead))
+            (d, walk(path, s, t, self.lookahead))
         };
         let bearing = libm::atan2f(carrot.y - y, carrot.x - x);
         let heading = if end.distance(carrot) < 1e-3 {

@@ -477,6 +477,14 @@ pub fn soak(args: &SoakArgs) -> anyhow::Result<()> {
         };
         let r = mission::run(&spec, &mut *planner);
         if !r.success {
+            // Run it again with recording on (missions are deterministic) for pictures.
+            let again = MissionSpec {
+                record: true,
+                ..spec.clone()
+            };
+            let rr = mission::run(&again, &mut *planner);
+            let dir = args.out.join("failures").join(&spec.name);
+            report::save_pictures(&again, &rr, &[], &dir)?;
             bar.println(format!(
                 "mission {seed} failed: {}  (layout {layout:?}, start {start:?}, goal {goal:?}, people {}, robots {})",
                 report::summary(&r),

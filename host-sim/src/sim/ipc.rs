@@ -123,6 +123,11 @@ impl IpcPlanner {
         self.server.is_some()
     }
 
+    /// Process id of the server this planner started.
+    pub fn server_pid(&self) -> Option<u32> {
+        self.server.as_ref().map(|(child, _)| child.id())
+    }
+
     /// The service prefix in use.
     pub fn prefix(&self) -> &str {
         &self.prefix

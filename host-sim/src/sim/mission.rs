@@ -11,6 +11,7 @@ use planner_core::geometry::{Cell, Point};
 use planner_core::planner::{PlanParams, PlannerKind};
 
 /// Everything that defines a mission.
+#[derive(Clone)]
 pub struct MissionSpec {
     /// Name for tables and titles.
     pub name: String,

@@ -196,7 +196,7 @@ pub enum PlannerChoice {
     /// `planner-core` in this process.
     Inproc,
     /// `planner-server` over iceoryx2: a server already serving the prefix `planner`, or
-    /// one this process starts (see [`super::ipc`]).
+    /// one this process starts (under a private prefix; stopped when it ends).
     Ipc,
 }
 
