@@ -34,7 +34,8 @@
 //!
 //! A sample is **admissible** when its roll-out touches no blocked cell and no dynamic disc,
 //! or when it does but the robot can still brake before the contact (Fox et al.'s rule,
-//! `v^2 / (2 a) < arc length to the contact`). Dynamic discs move with their velocity during
+//! `v^2 / (2 a) < arc length to the contact`); meeting a moving disc is never admissible
+//! (it keeps coming while the robot brakes). Dynamic discs move with their velocity during
 //! the roll-out and are considered for `dynamic_horizon` seconds only; a robot standing
 //! still is never blamed for a disc walking into it.
 //!
@@ -734,7 +735,13 @@ impl Dwa {
             if !standing && t <= c.dynamic_horizon {
                 for d in discs {
                     let q = Point::new(d.x + d.vx * t, d.y + d.vy * t);
-                    cl = cl.min(p.distance(q) - d.r - c.radius);
+                    let dc = p.distance(q) - d.r - c.radius;
+                    // A moving disc keeps coming while the robot brakes: meeting one within
+                    // the horizon is never admissible.
+                    if dc <= CONTACT_MARGIN && d.vx * d.vx + d.vy * d.vy > 0.0025 {
+                        return None;
+                    }
+                    cl = cl.min(dc);
                 }
             }
             if cl <= CONTACT_MARGIN {

@@ -356,7 +356,8 @@ pub fn run_with_progress(
         }
         let before = state.position();
         spec.drive.step(&mut state, cmd.v, cmd.w, dt);
-        world.step(grid, dt, (state.position(), radius), goal_pt);
+        let robot_vel = (state.v * state.theta.cos(), state.v * state.theta.sin());
+        world.step(grid, dt, (state.position(), radius), robot_vel, goal_pt);
         t += dt;
         let pos = state.position();
         result.driven_length += before.distance(pos);

@@ -2,7 +2,8 @@
 //! two points, or random errands between free cells), and parked robots.
 //!
 //! Movers follow polylines at their own speed and yield: a mover whose next 0.6 cells
-//! ahead would bring it within reach of the simulated robot waits; after waiting
+//! ahead would bring it within reach of the simulated robot, or who would meet the robot
+//! within the next second if both kept their velocities, waits; after waiting
 //! `patience` seconds it turns back (patrols) or picks a new errand (random movers), so
 //! nobody waits for ever face to face in a one-cell aisle.
 
@@ -196,8 +197,16 @@ impl World {
         }
     }
 
-    /// Advances every mover by `dt`; `robot` is the simulated robot (position, radius).
-    pub fn step(&mut self, grid: GridRef<'_>, dt: f32, robot: (Point, f32), goal: Point) {
+    /// Advances every mover by `dt`; `robot` is the simulated robot (position, radius) and
+    /// `robot_vel` its velocity (cells/s).
+    pub fn step(
+        &mut self,
+        grid: GridRef<'_>,
+        dt: f32,
+        robot: (Point, f32),
+        robot_vel: (f32, f32),
+        goal: Point,
+    ) {
         for i in 0..self.agents.len() {
             let a = &mut self.agents[i];
             a.vel = (0.0, 0.0);
@@ -224,11 +233,23 @@ impl World {
             } else {
                 (0.0, 0.0)
             };
-            // Yield to the robot: would the next 0.6 cells bring us within reach?
+            // Yield to the robot: would the next 0.6 cells bring us within reach, or would
+            // we meet within the next second, both keeping our velocities?
             let ahead = Point::new(a.pos.x + ux * 0.6, a.pos.y + uy * 0.6);
             let reach = a.radius + robot.1 + 0.15;
             let closing = (robot.0.x - a.pos.x) * ux + (robot.0.y - a.pos.y) * uy > 0.0;
-            if closing && (ahead.distance(robot.0) < reach || a.pos.distance(robot.0) < reach + 0.3)
+            let meet = (1..=10).any(|k| {
+                let t = k as f32 * 0.1;
+                let me = Point::new(a.pos.x + ux * a.speed * t, a.pos.y + uy * a.speed * t);
+                let it = Point::new(robot.0.x + robot_vel.0 * t, robot.0.y + robot_vel.1 * t);
+                let now = a.pos.distance(robot.0);
+                // Only if walking on makes it worse than standing would.
+                let still = a.pos.distance(it);
+                me.distance(it) < reach && me.distance(it) < still.min(now)
+            });
+            if meet
+                || closing
+                    && (ahead.distance(robot.0) < reach || a.pos.distance(robot.0) < reach + 0.3)
             {
                 a.waited += dt;
                 if a.waited > a.patience {
