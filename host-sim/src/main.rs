@@ -1,11 +1,13 @@
 //! `host-sim`: the front door of the warehouse planner.
 //!
 //! Subcommands:
+//! - `demo`, `run`, `scenarios`, `soak`: the simulator (see `sim`);
 //! - `plan`: plan queries on a Moving AI `.map` and print one JSON object a line;
 //! - `optimize`: run a swarm optimizer on benchmark functions (JSON statistics);
 //! - `bench paper|movingai|speed`: the papers' tables, quality and speed benchmarks;
 //! - `maps`: write the seed-style maps as `.map` files.
 //! - `terrain`: 3D terrain planning, seed 001's experiments 1-3 (tables 2-7) and a benchmark.
+//! - `serve` (hidden): the planner service over iceoryx2, started by `--planner ipc`;
 //! - `render-demo` (hidden): write example pictures (see `render`) into `target/render-demo/`.
 
 use clap::{Parser, Subcommand};
@@ -13,7 +15,7 @@ use clap::{Parser, Subcommand};
 mod cmd;
 
 // The library's modules, bound at the crate root so `crate::maps` etc. resolve in `cmd`.
-use host_sim::{maps, render, validate};
+use host_sim::{maps, mapsrc, render, sim, validate};
 
 #[derive(Parser)]
 #[command(
@@ -28,6 +30,15 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
+    /// The demo: a 40x40 warehouse, TCLHHO global paths, a robot driven with DWA among
+    /// people and robots; pictures and a JSON report in bench-out/demo.
+    Demo(cmd::sim::DemoArgs),
+    /// Simulate one mission on any map (.map, ROS .yaml) or a generated warehouse.
+    Run(cmd::sim::RunArgs),
+    /// The hard cases of the simulator; exit status 1 if one fails.
+    Scenarios(cmd::sim::ScenariosArgs),
+    /// Many random missions on generated warehouses with dynamic obstacles.
+    Soak(cmd::sim::SoakArgs),
     /// Plan paths on a map; one JSON object per query.
     Plan(cmd::plan::PlanArgs),
     /// Run a swarm optimizer on a benchmark function and print JSON statistics.
@@ -41,15 +52,23 @@ enum Command {
     /// Write example pictures (maps, terrain, convergence) to look at the renderer.
     #[command(hide = true)]
     RenderDemo(cmd::render_demo::RenderDemoArgs),
+    /// The planner service over iceoryx2 (what `--planner ipc` starts when none runs).
+    #[command(hide = true)]
+    Serve(cmd::serve::ServeArgs),
 }
 
 fn main() -> anyhow::Result<()> {
     match Cli::parse().command {
+        Command::Demo(args) => cmd::sim::demo(&args),
+        Command::Run(args) => cmd::sim::run(&args),
+        Command::Scenarios(args) => cmd::sim::scenarios(&args),
+        Command::Soak(args) => cmd::sim::soak(&args),
         Command::Plan(args) => cmd::plan::run(&args),
         Command::Optimize(args) => cmd::optimize::run(&args),
         Command::Bench(args) => cmd::bench::run(&args),
         Command::Maps(args) => cmd::maps::run(&args),
         Command::Terrain(args) => cmd::terrain::run(&args),
         Command::RenderDemo(args) => cmd::render_demo::run(&args),
+        Command::Serve(args) => cmd::serve::run(&args),
     }
 }

@@ -12,25 +12,38 @@
 //!
 //! `G(v, w) = sigma [eps heading + tau dist + gamma vel + kappa curvefit]`
 //!
-//! - `heading`: `pi - |angle from the rolled-out end heading to the carrot|` (the carrot is
-//!   the point `lookahead` cells further along the global path than the robot's projection);
+//! - `heading`: `pi - |angle from the rolled-out end heading to the sample's carrot|`; each
+//!   sample has its own carrot: the roll-out's end is projected onto the stretch of the
+//!   global path ahead of the robot, and the carrot is `lookahead` cells further along the
+//!   path from there (a carrot fixed just ahead of the robot rewards arcs that circle round
+//!   it);
 //! - `dist`: smallest clearance (distance from the footprint's rim to a blocked cell or a
 //!   dynamic disc) along the roll-out, capped at `clearance_cap`;
-//! - `vel`: the forward speed `v`;
-//! - `curvefit`: distance from the roll-out's end to the global path polyline (smaller is
-//!   better, so it enters as `max - value`).
+//! - `vel`: the forward speed `v` (0 for a roll-out that ends in a contact it can brake
+//!   before);
+//! - `curvefit`: distance from the roll-out's end to the global path polyline, the stretch
+//!   ahead of the robot (smaller is better, so it enters as `max - value`).
 //!
 //! **Normalisation**: min-max over the admissible samples of the window,
-//! `(x - min) / (max - min)`, each term in `[0, 1]` (a term that is constant over the window
-//! contributes 0). `sigma` is a monotone smoothing and does not change the argmax, so it is
+//! `(x - min) / max(max - min, floor)`, each term in `[0, 1]` (a term that is constant over the
+//! window contributes 0; the floors, 0.2 rad for heading, 0.05 cell for dist and 0.5 cell for
+//! curvefit, keep differences too small to matter from counting fully when the window is
+//! narrow, e.g. when starting from standstill). `sigma` is a monotone smoothing and does not change the argmax, so it is
 //! the identity here. The min and max need a first pass over the window, the choice a second
 //! one: samples are iterated, never stored, so memory is fixed and no allocator is needed.
 //!
 //! A sample is **admissible** when its roll-out touches no blocked cell and no dynamic disc,
 //! or when it does but the robot can still brake before the contact (Fox et al.'s rule,
-//! `v^2 / (2 a) < arc length to the contact`). Dynamic discs move with their velocity during
+//! `v^2 / (2 a) < arc length to the contact`); meeting a moving disc is never admissible
+//! (it keeps coming while the robot brakes). Dynamic discs move with their velocity during
 //! the roll-out and are considered for `dynamic_horizon` seconds only; a robot standing
 //! still is never blamed for a disc walking into it.
+//!
+//! **Standing samples** (`v = 0`, turning in place) end where the robot is, which the
+//! curvefit term rewards whenever the robot is a little off the path; they compete only when
+//! the robot faces more than 45 degrees away from its carrot or when no moving sample is
+//! admissible with a contact-free roll-out (only contact-free moving samples compete when
+//! standing is excluded).
 //!
 //! Safety rules around the scoring:
 //! - **anti-stuck**: when no sample is admissible the robot brakes; standing, it rotates in
@@ -50,6 +63,21 @@ use crate::geometry::Point;
 use crate::grid::GridRef;
 use crate::math::sqrt;
 use core::f32::consts::PI;
+
+/// Speeds below this (cells/s) count as standing.
+const STANDING_V: f32 = 1e-3;
+
+/// Bearing error to the carrot (rad) above which turning in place may be chosen.
+const ROTATE_IN_PLACE_ABOVE: f32 = core::f32::consts::FRAC_PI_4;
+
+/// Clearance (cells) below which a roll-out counts as touching: a small safety margin over
+/// the footprint radius, so that discretisation of the roll-out never lets the robot scrape.
+const CONTACT_MARGIN: f32 = 0.02;
+
+/// Smallest spans of the min-max normalisation (rad, cells, cells): see [`Range::norm`].
+const FLOOR_HEADING: f32 = 0.2;
+const FLOOR_DIST: f32 = 0.05;
+const FLOOR_FIT: f32 = 0.5;
 
 /// Parameters of the local planner (cells, seconds, radians).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -87,7 +115,8 @@ pub struct DwaConfig {
     pub goal_tolerance: f32,
     /// Clearance above this counts the same in the `dist` term (cells).
     pub clearance_cap: f32,
-    /// Carrot distance along the global path (cells).
+    /// Carrot distance along the global path (cells); near obstacles it shrinks to the
+    /// robot centre's clearance, but not below half a cell.
     pub lookahead: f32,
     /// How long dynamic discs are predicted (s).
     pub dynamic_horizon: f32,
@@ -311,6 +340,8 @@ pub struct Dwa {
     /// The parameters.
     pub config: DwaConfig,
     segment: usize,
+    seg_t: f32,
+    lookahead: f32,
     clock: f32,
     anchor: Point,
     anchor_time: f32,
@@ -347,9 +378,11 @@ impl Range {
         self.lo = self.lo.min(v);
         self.hi = self.hi.max(v);
     }
-    /// Min-max normalisation; 0 when the term is constant over the window.
-    fn norm(&self, v: f32) -> f32 {
-        let span = self.hi - self.lo;
+    /// Min-max normalisation; 0 when the term is constant over the window. The span is at
+    /// least `floor`, so differences too small to matter (a few hundredths of a cell in a
+    /// narrow window) are not blown up to the full weight of the term.
+    fn norm(&self, v: f32, floor: f32) -> f32 {
+        let span = (self.hi - self.lo).max(floor);
         if span > 1e-9 {
             (v - self.lo) / span
         } else {
@@ -365,6 +398,8 @@ impl Dwa {
         Ok(Dwa {
             config,
             segment: 0,
+            seg_t: 0.0,
+            lookahead: config.lookahead,
             clock: 0.0,
             anchor: Point::new(f32::NAN, f32::NAN),
             anchor_time: 0.0,
@@ -382,6 +417,7 @@ impl Dwa {
     /// the progress checker and recovery restart.
     pub fn reset_path(&mut self) {
         self.segment = 0;
+        self.seg_t = 0.0;
         self.anchor = Point::new(f32::NAN, f32::NAN);
         self.anchor_time = self.clock;
         self.rotations = 0;
@@ -425,6 +461,9 @@ impl Dwa {
         }
         self.clock += c.dt;
         let pos = state.position();
+        // In narrow places the carrot comes closer (down to half a cell in a one-cell
+        // aisle), so that the robot follows the path to a corner before turning.
+        self.lookahead = point_clearance(grid, pos, c.lookahead).clamp(0.5, c.lookahead);
         let (carrot, cross_track) = self.carrot(pos, path);
         let goal = path[path.len() - 1];
         let mut cmd = Command {
@@ -471,21 +510,39 @@ impl Dwa {
             }
         };
 
-        // Pass 1: ranges of the terms over the admissible samples.
+        // Pass 1: ranges of the terms over the admissible samples, over all of them and
+        // over the moving ones.
         let mut ranges = [Range::EMPTY; 4];
+        let mut ranges_moving = [Range::EMPTY; 4];
         let mut admissible = 0u32;
+        let mut admissible_moving = 0u32;
         for i in 0..c.v_samples {
             let v = sample(v_lo, v_hi, c.v_samples, i);
             for j in 0..c.w_samples {
                 let w = sample(w_lo, w_hi, c.w_samples, j);
-                if let Some(t) = self.evaluate(state, v, w, grid, discs, path, carrot) {
+                if let Some(t) = self.evaluate(state, v, w, grid, discs, path) {
                     admissible += 1;
-                    ranges[0].add(t.heading);
-                    ranges[1].add(t.dist);
-                    ranges[2].add(t.vel);
-                    ranges[3].add(t.fit);
+                    let terms = [t.heading, t.dist, t.vel, t.fit];
+                    for (r, x) in ranges.iter_mut().zip(terms) {
+                        r.add(x);
+                    }
+                    if v.abs() >= STANDING_V && t.dist > 0.0 {
+                        admissible_moving += 1;
+                        for (r, x) in ranges_moving.iter_mut().zip(terms) {
+                            r.add(x);
+                        }
+                    }
                 }
             }
+        }
+        // A standing sample's roll-out ends where the robot is, on the path: it would win
+        // the curvefit term whenever the robot is slightly off the path. Standing (turning in
+        // place) is therefore a choice only when the robot faces away from the path or when
+        // no moving sample is admissible without contact (then all samples compete).
+        let facing = wrap(libm::atan2f(carrot.y - pos.y, carrot.x - pos.x) - state.theta).abs();
+        let moving_only = admissible_moving > 0 && facing < ROTATE_IN_PLACE_ABOVE;
+        if moving_only {
+            ranges = ranges_moving;
         }
         cmd.samples = c.v_samples as u32 * c.w_samples as u32;
         cmd.admissible = admissible;
@@ -497,11 +554,17 @@ impl Dwa {
                 let v = sample(v_lo, v_hi, c.v_samples, i);
                 for j in 0..c.w_samples {
                     let w = sample(w_lo, w_hi, c.w_samples, j);
-                    if let Some(t) = self.evaluate(state, v, w, grid, discs, path, carrot) {
-                        let g = c.heading * ranges[0].norm(t.heading)
-                            + c.dist * ranges[1].norm(t.dist)
-                            + c.velocity * ranges[2].norm(t.vel)
-                            + c.curvefit * (1.0 - ranges[3].norm(t.fit));
+                    if moving_only && v.abs() < STANDING_V {
+                        continue;
+                    }
+                    if let Some(t) = self.evaluate(state, v, w, grid, discs, path) {
+                        if moving_only && t.dist <= 0.0 {
+                            continue;
+                        }
+                        let g = c.heading * ranges[0].norm(t.heading, FLOOR_HEADING)
+                            + c.dist * ranges[1].norm(t.dist, FLOOR_DIST)
+                            + c.velocity * ranges[2].norm(t.vel, 0.0)
+                            + c.curvefit * (1.0 - ranges[3].norm(t.fit, FLOOR_FIT));
                         if g > best.0 {
                             best = (g, v, w);
                         }
@@ -622,46 +685,23 @@ impl Dwa {
         event
     }
 
-    /// The carrot and the cross-track distance. Tracking is monotone along the path: the
-    /// projection is searched from the last segment on, a few segments ahead.
+    /// The robot's place on the path, its carrot and the cross-track distance. Tracking is
+    /// monotone along the path: the projection is searched from the last one on, over a
+    /// bounded stretch of arc (so a later leg of the path that passes nearby, as in a U-turn,
+    /// is not taken for the current one).
     fn carrot(&mut self, pos: Point, path: &[Point]) -> (Point, f32) {
         if path.len() == 1 {
             return (path[0], pos.distance(path[0]));
         }
-        let last = path.len() - 2;
-        if self.segment > last {
+        if self.segment > path.len() - 2 || !self.seg_t.is_finite() {
             self.segment = 0;
+            self.seg_t = 0.0;
         }
-        let mut best = (f32::INFINITY, self.segment, 0.0f32);
-        // Look ahead a bounded number of segments; behind only the current one.
-        let end = (self.segment + 8).min(last);
-        for s in self.segment..=end {
-            let (d, t) = project(pos, path[s], path[s + 1]);
-            // Prefer later segments on ties (corners).
-            if d <= best.0 + 1e-4 {
-                best = (d, s, t);
-            }
-        }
-        self.segment = best.1;
-        let cross = best.0;
-        // Walk `lookahead` along the path from the projection.
-        let mut left = self.config.lookahead;
-        let (a, b) = (path[best.1], path[best.1 + 1]);
-        let mut from = Point::new(a.x + (b.x - a.x) * best.2, a.y + (b.y - a.y) * best.2);
-        for s in best.1..=last {
-            let to = path[s + 1];
-            let len = from.distance(to);
-            if len >= left && len > 0.0 {
-                let k = left / len;
-                return (
-                    Point::new(from.x + (to.x - from.x) * k, from.y + (to.y - from.y) * k),
-                    cross,
-                );
-            }
-            left -= len;
-            from = to;
-        }
-        (path[path.len() - 1], cross)
+        let span = self.config.lookahead + self.config.v_max * self.config.predict + 1.0;
+        let (d, s, t) = nearest_ahead(pos, path, self.segment, self.seg_t, span);
+        self.segment = s;
+        self.seg_t = t;
+        (walk(path, s, t, self.lookahead), d)
     }
 
     /// Rolls `(v, w)` out; `None` when inadmissible.
@@ -674,7 +714,6 @@ impl Dwa {
         grid: GridRef<'_>,
         discs: &[DynamicDisc],
         path: &[Point],
-        carrot: Point,
     ) -> Option<Terms> {
         let c = self.config;
         let steps = libm::ceilf(c.predict / c.dt) as u32;
@@ -682,6 +721,7 @@ impl Dwa {
         let mut min_clear = c.clearance_cap;
         let mut arc = 0.0f32;
         let standing = v.abs() < 1e-3;
+        let mut contact = false;
         // The current pose (t = 0) counts for standing samples only; a robot already too
         // close to something must be able to move away.
         if standing {
@@ -699,14 +739,21 @@ impl Dwa {
             if !standing && t <= c.dynamic_horizon {
                 for d in discs {
                     let q = Point::new(d.x + d.vx * t, d.y + d.vy * t);
-                    cl = cl.min(p.distance(q) - d.r - c.radius);
+                    let dc = p.distance(q) - d.r - c.radius;
+                    // A moving disc keeps coming while the robot brakes: meeting one within
+                    // the horizon is never admissible.
+                    if dc <= CONTACT_MARGIN && d.vx * d.vx + d.vy * d.vy > 0.0025 {
+                        return None;
+                    }
+                    cl = cl.min(dc);
                 }
             }
-            if cl <= 0.0 {
+            if cl <= CONTACT_MARGIN {
                 // Contact: admissible only if the robot can brake before it.
                 let brake = v * v / (2.0 * c.acc_v);
                 if brake + 0.02 < arc - v.abs() * c.dt {
                     min_clear = 0.0;
+                    contact = true;
                     break;
                 }
                 return None;
@@ -716,13 +763,27 @@ impl Dwa {
                 break;
             }
         }
+        // The carrot of this sample: the roll-out's end projected onto the path ahead of the
+        // robot, then `lookahead` further along it.
+        let end = Point::new(x, y);
+        let (fit, carrot) = if path.len() == 1 {
+            (end.distance(path[0]), path[0])
+        } else {
+            let span = c.v_max * c.predict + c.lookahead + 1.0;
+            let (d, s, t) = nearest_ahead(end, path, self.segment, self.seg_t, span);
+            (d, walk(path, s, t, self.lookahead))
+        };
         let bearing = libm::atan2f(carrot.y - y, carrot.x - x);
-        let heading = PI - wrap(bearing - th).abs();
-        let fit = distance_to_polyline(Point::new(x, y), path);
+        let heading = if end.distance(carrot) < 1e-3 {
+            PI
+        } else {
+            PI - wrap(bearing - th).abs()
+        };
         Some(Terms {
             heading,
             dist: min_clear,
-            vel: v,
+            // Speed towards a contact earns nothing (among such samples the slowest wins).
+            vel: if contact { 0.0 } else { v },
             fit,
         })
     }
@@ -750,6 +811,66 @@ fn project(p: Point, a: Point, b: Point) -> (f32, f32) {
     };
     let q = Point::new(a.x + dx * t, a.y + dy * t);
     (p.distance(q), t)
+}
+
+/// The point of `path` nearest to `p` among the stretch that starts at parameter `t0` of
+/// segment `seg0` and runs `span` cells of arc further: `(distance, segment, parameter)`.
+/// Ties go to the later point (corners). `path` has at least two points.
+fn nearest_ahead(p: Point, path: &[Point], seg0: usize, t0: f32, span: f32) -> (f32, usize, f32) {
+    let last = path.len() - 2;
+    let seg0 = seg0.min(last);
+    let t0 = t0.clamp(0.0, 1.0);
+    let mut best = (f32::INFINITY, seg0, t0);
+    let mut arc = 0.0f32;
+    for s in seg0..=last {
+        let (a, b) = (path[s], path[s + 1]);
+        let lo = if s == seg0 { t0 } else { 0.0 };
+        let (dx, dy) = (b.x - a.x, b.y - a.y);
+        let len2 = dx * dx + dy * dy;
+        let len = sqrt(len2);
+        let t = if len2 > 0.0 {
+            (((p.x - a.x) * dx + (p.y - a.y) * dy) / len2).clamp(lo, 1.0)
+        } else {
+            lo
+        };
+        // Do not look past the end of the stretch.
+        let t = if len > 0.0 {
+            t.min(lo + (span - arc).max(0.0) / len)
+        } else {
+            t
+        };
+        let q = Point::new(a.x + dx * t, a.y + dy * t);
+        let d = p.distance(q);
+        if d <= best.0 + 1e-4 {
+            best = (d, s, t);
+        }
+        arc += len * (1.0 - lo);
+        if arc >= span {
+            break;
+        }
+    }
+    best
+}
+
+/// The point `dist` cells of arc further along `path` than parameter `t` of segment `seg`
+/// (the last point when the path ends first). `path` has at least two points.
+fn walk(path: &[Point], seg: usize, t: f32, dist: f32) -> Point {
+    let last = path.len() - 2;
+    let seg = seg.min(last);
+    let (a, b) = (path[seg], path[seg + 1]);
+    let mut from = Point::new(a.x + (b.x - a.x) * t, a.y + (b.y - a.y) * t);
+    let mut left = dist;
+    for s in seg..=last {
+        let to = path[s + 1];
+        let len = from.distance(to);
+        if len >= left && len > 0.0 {
+            let k = left / len;
+            return Point::new(from.x + (to.x - from.x) * k, from.y + (to.y - from.y) * k);
+        }
+        left -= len;
+        from = to;
+    }
+    path[path.len() - 1]
 }
 
 /// Distance from `p` to the polyline (to the point for a one-point path).

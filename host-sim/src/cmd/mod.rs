@@ -5,4 +5,6 @@ pub mod maps;
 pub mod optimize;
 pub mod plan;
 pub mod render_demo;
+pub mod serve;
+pub mod sim;
 pub mod terrain;

@@ -1,0 +1,223 @@
+//! The global planner as the simulator sees it: a [`GlobalPlanner`] takes a map once and then
+//! answers plan requests. [`InProcess`] runs `planner-core` in this process;
+//! [`super::ipc::IpcPlanner`], a client of `planner-server` over iceoryx2, implements the
+//! same trait (`--planner ipc`).
+
+use crate::maps::HostGrid;
+use planner_core::PlanError;
+use planner_core::geometry::{Cell, Point};
+use planner_core::grid::GridRef;
+use planner_core::path::{Path, PathView};
+use planner_core::planner::aco::AcoParams;
+use planner_core::planner::owned::HostPlanner;
+use planner_core::planner::{PlanParams, PlannerKind};
+use std::time::{Duration, Instant};
+
+/// One plan request.
+#[derive(Clone, Copy, Debug)]
+pub struct PlanRequest {
+    /// Start cell.
+    pub start: Cell,
+    /// Goal cell.
+    pub goal: Cell,
+    /// The planner.
+    pub algo: PlannerKind,
+    /// Swarm parameters (their `seed` is replaced by `seed`).
+    pub params: PlanParams,
+    /// The seed of this request.
+    pub seed: u64,
+}
+
+/// A planned path with the planner's figures.
+#[derive(Clone, Debug, Default)]
+pub struct PlannedPath {
+    /// Waypoints, cell units.
+    pub points: Vec<Point>,
+    /// Length (cells).
+    pub length: f32,
+    /// Best cost per iteration (swarm planners and ACO; empty for A* and Theta*).
+    pub history: Vec<f32>,
+    /// Objective evaluations (swarm planners), or cells expanded (A*, Theta*).
+    pub evaluations: u64,
+    /// Wall-clock planning time.
+    pub time: Duration,
+}
+
+/// Why no path came back.
+#[derive(Clone, Debug, PartialEq)]
+pub enum PlanFailure {
+    /// Start and goal lie in different components: the goal is walled off.
+    Unreachable,
+    /// The start cell is blocked or off the map.
+    StartBlocked,
+    /// The goal cell is blocked or off the map.
+    GoalBlocked,
+    /// Any other planner error (budget, parameters, capacity).
+    Planner(PlanError),
+    /// The transport to a planner service failed.
+    Transport(String),
+}
+
+impl std::fmt::Display for PlanFailure {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            PlanFailure::Unreachable => f.write_str("Unreachable"),
+            PlanFailure::StartBlocked => f.write_str("StartBlocked"),
+            PlanFailure::GoalBlocked => f.write_str("GoalBlocked"),
+            PlanFailure::Planner(e) => write!(f, "{e}"),
+            PlanFailure::Transport(e) => write!(f, "transport: {e}"),
+        }
+    }
+}
+
+impl std::error::Error for PlanFailure {}
+
+impl From<PlanError> for PlanFailure {
+    fn from(e: PlanError) -> Self {
+        match e {
+            PlanError::NoValidPath => PlanFailure::Unreachable,
+            PlanError::StartOccupied | PlanError::StartOutsideMap => PlanFailure::StartBlocked,
+            PlanError::GoalOccupied | PlanError::GoalOutsideMap => PlanFailure::GoalBlocked,
+            other => PlanFailure::Planner(other),
+        }
+    }
+}
+
+/// A global planner: the in-process one or a service client.
+pub trait GlobalPlanner {
+    /// Short name for reports (`inproc`, `ipc`).
+    fn name(&self) -> &'static str;
+    /// Replaces the map (the simulator calls it again with temporary obstacles to replan).
+    fn set_map(&mut self, grid: GridRef<'_>) -> Result<(), PlanFailure>;
+    /// Plans on the current map.
+    fn plan(&mut self, request: &PlanRequest) -> Result<PlannedPath, PlanFailure>;
+}
+
+/// `planner-core` in this process.
+pub struct InProcess {
+    planner: HostPlanner,
+    grid: Option<Box<HostGrid>>,
+    out: Box<Path<{ 1 << 16 }>>,
+    aco: AcoParams,
+}
+
+impl Default for InProcess {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl InProcess {
+    /// A planner without a map.
+    pub fn new() -> Self {
+        InProcess {
+            planner: HostPlanner::new(),
+            grid: None,
+            out: Box::new(Path::new()),
+            aco: AcoParams::default(),
+        }
+    }
+}
+
+/// Copies a grid view into an owned host grid.
+pub fn copy_grid(grid: GridRef<'_>) -> Result<Box<HostGrid>, PlanFailure> {
+    let mut own = Box::new(
+        HostGrid::new(grid.width(), grid.height())
+            .map_err(|_| PlanFailure::Planner(PlanError::CapacityExceeded))?,
+    );
+    for y in 0..grid.height() {
+        for x in 0..grid.width() {
+            if grid.is_blocked(x as isize, y as isize) {
+                own.set_blocked(x, y, true)
+                    .map_err(|_| PlanFailure::Planner(PlanError::CapacityExceeded))?;
+            }
+        }
+    }
+    Ok(own)
+}
+
+impl GlobalPlanner for InProcess {
+    fn name(&self) -> &'static str {
+        "inproc"
+    }
+
+    fn set_map(&mut self, grid: GridRef<'_>) -> Result<(), PlanFailure> {
+        let own = copy_grid(grid)?;
+        self.planner.prepare(own.view())?;
+        self.grid = Some(own);
+        Ok(())
+    }
+
+    fn plan(&mut self, request: &PlanRequest) -> Result<PlannedPath, PlanFailure> {
+        let grid = self
+            .grid
+            .as_ref()
+            .ok_or_else(|| PlanFailure::Transport("no map set".into()))?;
+        let params = PlanParams {
+            seed: request.seed,
+            ..request.params
+        };
+        let aco = AcoParams {
+            seed: request.seed,
+            ..self.aco
+        };
+        let mut history = vec![f32::NAN; params.iterations.max(aco.iterations) as usize + 1];
+        let out: &mut PathView = &mut *self.out;
+        let t0 = Instant::now();
+        let outcome = self.planner.plan(
+            grid.view(),
+            request.algo,
+            request.start,
+            request.goal,
+            &params,
+            &aco,
+            out,
+            &mut history,
+            &mut || false,
+        )?;
+        let time = t0.elapsed();
+        let n = outcome.report.map_or(0, |r| r.history_len);
+        history.truncate(n);
+        Ok(PlannedPath {
+            points: out.to_vec(),
+            length: outcome.length,
+            history,
+            evaluations: outcome
+                .report
+                .map_or(outcome.expanded.unwrap_or(0) as u64, |r| r.evaluations),
+            time,
+        })
+    }
+}
+
+/// Which planner to use (`--planner`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum PlannerChoice {
+    /// `planner-core` in this process.
+    Inproc,
+    /// `planner-server` over iceoryx2: a server already serving the prefix `planner`, or
+    /// one this process starts (under a private prefix; stopped when it ends).
+    Ipc,
+}
+
+impl PlannerChoice {
+    /// The command-line name.
+    pub fn name(self) -> &'static str {
+        match self {
+            PlannerChoice::Inproc => "inproc",
+            PlannerChoice::Ipc => "ipc",
+        }
+    }
+
+    /// The planner this choice names; a started server logs to `log`.
+    pub fn build(self, log: Option<&std::path::Path>) -> anyhow::Result<Box<dyn GlobalPlanner>> {
+        match self {
+            PlannerChoice::Inproc => Ok(Box::new(InProcess::new())),
+            PlannerChoice::Ipc => Ok(Box::new(super::ipc::IpcPlanner::connect_or_start(
+                "planner",
+                Duration::from_millis(300),
+                log,
+            )?)),
+        }
+    }
+}
