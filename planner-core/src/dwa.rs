@@ -61,7 +61,7 @@
 
 use crate::geometry::Point;
 use crate::grid::GridRef;
-use crate::math::sqrt;
+use crate::math::{clamp, sqrt};
 use core::f32::consts::PI;
 
 /// Speeds below this (cells/s) count as standing.
@@ -463,7 +463,7 @@ impl Dwa {
         let pos = state.position();
         // In narrow places the carrot comes closer (down to half a cell in a one-cell
         // aisle), so that the robot follows the path to a corner before turning.
-        self.lookahead = point_clearance(grid, pos, c.lookahead).clamp(0.5, c.lookahead);
+        self.lookahead = clamp(point_clearance(grid, pos, c.lookahead), 0.5, c.lookahead);
         let (carrot, cross_track) = self.carrot(pos, path);
         let goal = path[path.len() - 1];
         let mut cmd = Command {
@@ -608,12 +608,11 @@ impl Dwa {
         if self.rotations <= c.recovery_rotations && err.abs() > 0.1 {
             cmd.mode = Mode::Rotate;
             cmd.v = 0.0;
-            let w = (2.0 * err).clamp(-c.w_max, c.w_max);
+            let w = clamp(2.0 * err, -c.w_max, c.w_max);
             // Reachable within one step, but never beyond the limit (a robot turning faster
             // than `w_max` is commanded down to it, as the window does).
-            cmd.w = w
-                .clamp(state.w - c.acc_w * c.dt, state.w + c.acc_w * c.dt)
-                .clamp(-c.w_max, c.w_max);
+            let reachable = clamp(w, state.w - c.acc_w * c.dt, state.w + c.acc_w * c.dt);
+            cmd.w = clamp(reachable, -c.w_max, c.w_max);
             return;
         }
         // Back off if the cells behind are clear, else wait (rotation counter keeps going).
@@ -829,7 +828,7 @@ fn nearest_ahead(p: Point, path: &[Point], seg0: usize, t0: f32, span: f32) -> (
         let len2 = dx * dx + dy * dy;
         let len = sqrt(len2);
         let t = if len2 > 0.0 {
-            (((p.x - a.x) * dx + (p.y - a.y) * dy) / len2).clamp(lo, 1.0)
+            clamp(((p.x - a.x) * dx + (p.y - a.y) * dy) / len2, lo, 1.0)
         } else {
             lo
         };

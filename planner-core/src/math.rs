@@ -52,6 +52,21 @@ pub fn floor_i(x: f32) -> isize {
     if (i as f32) > x { i - 1 } else { i }
 }
 
+/// `x` limited to `[lo, hi]` with no panic: `f32::clamp` asserts `lo <= hi` (input-dependent
+/// bounds could trip it) and its message formats floats, about 20 KiB of flash on Cortex-M.
+/// Equal to `x.clamp(lo, hi)` whenever that does not panic; with `lo > hi` it gives `lo` or
+/// `hi`; NaN stays NaN.
+#[inline]
+pub fn clamp(x: f32, lo: f32, hi: f32) -> f32 {
+    if x < lo {
+        lo
+    } else if x > hi {
+        hi
+    } else {
+        x
+    }
+}
+
 /// `ceil` counterpart of [`floor_i`].
 #[inline]
 pub fn ceil_i(x: f32) -> isize {
@@ -62,6 +77,25 @@ pub fn ceil_i(x: f32) -> isize {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn clamp_matches_std_and_never_panics() {
+        for x in [
+            -3.0f32,
+            -0.5,
+            0.0,
+            0.25,
+            1.0,
+            7.5,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+        ] {
+            assert_eq!(clamp(x, -1.0, 1.0), x.clamp(-1.0, 1.0));
+        }
+        assert!(clamp(f32::NAN, 0.0, 1.0).is_nan());
+        // Bounds the wrong way round (std would panic).
+        assert!([2.0, 1.0].contains(&clamp(1.5, 2.0, 1.0)));
+    }
 
     #[test]
     fn floor_and_ceil_match_libm() {

@@ -32,3 +32,27 @@ fn rotate_in_place_never_exceeds_w_max() {
     assert!(cmd.w.abs() <= config.w_max, "{cmd:?}");
     assert_eq!(cmd.v, 0.0);
 }
+
+/// The carrot distance shrinks to the robot's clearance but not below half a cell: with a
+/// configured `lookahead` under half a cell that was `f32::clamp(0.5, lookahead)` with its
+/// bounds the wrong way round, a panic (found when the firmware's flash grew by the float
+/// formatting of `clamp`'s assertion message). Any valid configuration must step.
+#[test]
+fn a_short_lookahead_does_not_panic() {
+    for lookahead in [0.05, 0.3, 0.49] {
+        let config = DwaConfig {
+            lookahead,
+            ..DwaConfig::default()
+        };
+        let mut dwa = Dwa::new(config).unwrap();
+        let grid = Small::new(16, 16).unwrap();
+        let state = DwaState {
+            x: 2.0,
+            y: 2.0,
+            ..DwaState::default()
+        };
+        let path = [Point::new(2.0, 2.0), Point::new(10.0, 2.0)];
+        let cmd = dwa.step(&state, grid.view(), &[], &path).unwrap();
+        assert!(cmd.v.is_finite() && cmd.w.is_finite(), "{cmd:?}");
+    }
+}

@@ -43,9 +43,24 @@ fn host_digest_matches_the_mcu() {
         assert_eq!((o.status, o.valid), (0, 1), "{}", case.name);
         digests.push(o.digest);
     }
-    if let Some(o) = scenario::dwa_control_loop(&mut s) {
-        digests.push(o.digest);
-    }
+    let o = scenario::dwa_control_loop(&mut s, &mut nodes).expect("a route for the DWA loop");
+    println!(
+        "case dwa status={} valid={} length_milli={} length_bits={:#010x} evaluations={} iterations={} waypoints={} digest={:#018x}",
+        o.status,
+        o.valid,
+        o.length_milli,
+        o.length_bits,
+        o.evaluations,
+        o.iterations,
+        o.waypoints,
+        o.digest
+    );
+    assert_eq!(
+        (o.status, o.valid),
+        (0, 1),
+        "the DWA loop must arrive without a collision"
+    );
+    digests.push(o.digest);
     let digest = format!("{:#018x}", scenario::combine(&digests));
     println!("digest={digest}");
     let mcu = include_str!("../firmware/DIGEST").trim();

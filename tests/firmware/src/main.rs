@@ -133,9 +133,8 @@ fn main() -> ! {
         digests[count] = o.digest;
         count += 1;
     }
-    // PENDING DWA: returns None until planner_core::dwa is merged.
     let t0 = ticks();
-    match scenario::dwa_control_loop(s) {
+    match scenario::dwa_control_loop(s, nodes) {
         Some(o) => {
             let t = ticks() - t0;
             print("dwa", &o, t);
@@ -143,7 +142,10 @@ fn main() -> ! {
             digests[count] = o.digest;
             count += 1;
         }
-        None => hprintln!("case dwa pending"),
+        None => {
+            hprintln!("case dwa: no route");
+            ok = false;
+        }
     }
     hprintln!("stack_peak_bytes={}", peak_stack());
     hprintln!("digest={:#018x}", scenario::combine(&digests[..count]));

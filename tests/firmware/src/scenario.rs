@@ -11,6 +11,7 @@
 //! (`f32::to_bits`), turns, evaluations, iterations, best iteration, the waypoint count and
 //! every waypoint's `x` and `y` bits. Only integers are printed (no float formatting).
 
+use planner_core::dwa::{Dwa, DwaConfig, DwaState, DynamicDisc, Mode, point_clearance};
 use planner_core::encoding::corridor::Station;
 use planner_core::geometry::Cell;
 use planner_core::grid::{Grid, words_for};
@@ -323,16 +324,117 @@ pub fn combine(digests: &[u64]) -> u64 {
     h.0
 }
 
-/// The DWA control loop of the issue: tracks the last planned path (`s.out`) with the
-/// Dynamic Window Approach and reports the integer figures of the run (steps, final pose
-/// bits, collisions) in an [`Outcome`] that joins the digest.
-///
-/// PENDING DWA: `planner_core::dwa` is being written in another branch. Until it is merged
-/// this returns `None` (nothing joins the digest on either side). To add it: build the DWA
-/// state in `Storage`, run the loop over `s.out` here, digest every commanded `(v, w)` and
-/// the final pose with [`Fnv`], and return the outcome; `main.rs` and the host test already
-/// time, print and digest whatever this returns.
-pub fn dwa_control_loop(s: &mut Storage) -> Option<Outcome> {
-    let _ = s;
-    None
+/// Route length the DWA loop drives (cells): the first stretch of the last plan, so that
+/// the loop takes seconds, not minutes, under QEMU.
+pub const DWA_ROUTE: f32 = 6.0;
+/// Control steps at most (`dt` = 0.1 s).
+pub const DWA_STEPS: u32 = 400;
+
+/// The DWA control loop: a differential-drive robot (footprint radius 0.3 cells) follows the
+/// first [`DWA_ROUTE`] cells of the A* route of the loaded map (cell centres keep half a cell
+/// off the shelves; the swarm plans hug corners, which a local planner does not follow
+/// without a clearance pass first) with the Dynamic Window
+/// Approach, a person walking beside the route, at 10 Hz, until it arrives or
+/// [`DWA_STEPS`] run out. The digest covers every commanded `(v, w)`, its mode and the
+/// final pose. `status` is 0 when the robot arrived without touching a blocked cell;
+/// `iterations` counts control steps, `evaluations` the window samples scored,
+/// `length_milli` the driven distance, `waypoints` the route's points.
+pub fn dwa_control_loop(s: &mut Storage, nodes: &mut Nodes) -> Option<Outcome> {
+    let mut o = Outcome::default();
+    let mut h = Fnv::new();
+    h.u32(0xD3A);
+    let grid = s.grid.view();
+    astar::plan(grid, s.start, s.goal, nodes, &mut s.out).ok()?;
+    // The route: the A* path cut at DWA_ROUTE cells (a point on a clear segment).
+    let mut route: Path<PATH_CAP> = Path::new();
+    let mut walked = 0.0f32;
+    for (i, &p) in s.out.iter().enumerate() {
+        if i > 0 {
+            let prev = s.out[i - 1];
+            let seg = prev.distance(p);
+            if walked + seg >= DWA_ROUTE {
+                let t = (DWA_ROUTE - walked) / seg;
+                let _ = route.push(Point::new(
+                    prev.x + t * (p.x - prev.x),
+                    prev.y + t * (p.y - prev.y),
+                ));
+                break;
+            }
+            walked += seg;
+        }
+        let _ = route.push(p);
+    }
+    if route.len() < 2 {
+        return None;
+    }
+    let config = DwaConfig::default();
+    let Ok(mut dwa) = Dwa::new(config) else {
+        o.status = 1;
+        return Some(o);
+    };
+    let (a, b) = (route[0], route[1]);
+    let mut state = DwaState {
+        x: a.x,
+        y: a.y,
+        theta: libm::atan2f(b.y - a.y, b.x - a.x),
+        v: 0.0,
+        w: 0.0,
+    };
+    // A person walking along the route's first leg, two cells to its side, at 0.4 cells/s.
+    let (dx, dy) = ((b.x - a.x) / a.distance(b), (b.y - a.y) / a.distance(b));
+    let mut person = DynamicDisc {
+        x: a.x - 2.0 * dy,
+        y: a.y + 2.0 * dx,
+        r: 0.3,
+        vx: 0.4 * dx,
+        vy: 0.4 * dy,
+    };
+    let (mut arrived, mut collisions, mut driven) = (false, 0u32, 0.0f32);
+    while o.iterations < DWA_STEPS {
+        let cmd = match dwa.step(&state, grid, &[person], &route) {
+            Ok(c) => c,
+            Err(_) => {
+                o.status = 2;
+                break;
+            }
+        };
+        o.iterations += 1;
+        o.evaluations += cmd.samples as u64;
+        h.u32(cmd.v.to_bits());
+        h.u32(cmd.w.to_bits());
+        h.u32(cmd.mode as u32);
+        if cmd.mode == Mode::Arrived {
+            arrived = true;
+            break;
+        }
+        // Unicycle kinematics over one control period.
+        let dt = config.dt;
+        state.v = cmd.v;
+        state.w = cmd.w;
+        state.theta += cmd.w * dt;
+        let (x0, y0) = (state.x, state.y);
+        state.x += cmd.v * libm::cosf(state.theta) * dt;
+        state.y += cmd.v * libm::sinf(state.theta) * dt;
+        driven += Point::new(x0, y0).distance(state.position());
+        person.x += person.vx * dt;
+        person.y += person.vy * dt;
+        if point_clearance(grid, state.position(), config.radius) < config.radius {
+            collisions += 1;
+        }
+    }
+    if o.status == 0 && !(arrived && collisions == 0) {
+        o.status = 1;
+    }
+    o.valid = u32::from(arrived && collisions == 0);
+    o.waypoints = route.len() as u32;
+    o.length_milli = (driven * 1000.0) as u32;
+    o.length_bits = driven.to_bits();
+    for v in [state.x, state.y, state.theta] {
+        h.u32(v.to_bits());
+    }
+    h.u32(o.status);
+    h.u32(o.iterations);
+    h.u32(collisions);
+    o.digest = h.0;
+    Some(o)
 }
