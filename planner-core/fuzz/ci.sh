@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Short bounded fuzz run for CI: every fuzz target of the repository for FUZZ_SECONDS
-# (default 20 s) on its committed corpus, single job. Exits non-zero on any crash, hang
+# (default 10 s) on its committed corpus, single job. Exits non-zero on any crash, hang
 # (-timeout) or leak, and when the nightly toolchain or cargo-fuzz cannot be had.
 #
 # Fuzz crates (each its own workspace, excluded from the main one) and their targets:
@@ -10,7 +10,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 
-SECONDS_PER_TARGET="${FUZZ_SECONDS:-20}"
+SECONDS_PER_TARGET="${FUZZ_SECONDS:-10}"
 
 # "crate directory:target"
 TARGETS=(
