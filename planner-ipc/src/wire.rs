@@ -421,6 +421,16 @@ impl PlanParams {
         Self::guide_of(self.extra[1])
     }
 
+    /// The `extra[1]` code of a guide route (the inverse of [`guide`](Self::guide)).
+    pub fn guide_code(guide: planner_core::planner::GuideKind) -> f32 {
+        use planner_core::planner::GuideKind;
+        match guide {
+            GuideKind::Visibility => 0.0,
+            GuideKind::AStar => 1.0,
+            GuideKind::Theta => 2.0,
+        }
+    }
+
     fn guide_of(code: f32) -> Option<planner_core::planner::GuideKind> {
         use planner_core::planner::GuideKind;
         match code {
@@ -809,6 +819,9 @@ mod tests {
         assert_eq!(guide(0.0), Some(GuideKind::Visibility));
         assert_eq!(guide(1.0), Some(GuideKind::AStar));
         assert_eq!(guide(2.0), Some(GuideKind::Theta));
+        for g in [GuideKind::Visibility, GuideKind::AStar, GuideKind::Theta] {
+            assert_eq!(guide(PlanParams::guide_code(g)), Some(g));
+        }
     }
 
     #[test]

@@ -223,6 +223,7 @@ impl GlobalPlanner for IpcPlanner {
             r.params.population = request.params.population as f32;
             r.params.iterations = request.params.iterations as f32;
             r.params.extra[0] = request.params.stagnation.unwrap_or(0) as f32;
+            r.params.extra[1] = wire::PlanParams::guide_code(request.params.guide);
         }
         let t0 = Instant::now();
         let ok = self.client.plan(&r, self.timeout).map_err(failure)?;

@@ -73,6 +73,9 @@ impl Scenario {
 
 /// Swarm settings for missions: the papers' population, a short horizon with early stop
 /// (replans must be quick).
+///
+/// The corridor's guide is the A* route (the core's default; the service gets it from the
+/// request): the scenario and soak figures were measured with it.
 pub fn mission_params() -> PlanParams {
     PlanParams {
         iterations: 150,
