@@ -13,6 +13,21 @@ mod scenario;
 use planner_core::search::SearchNode;
 use scenario::{CASES, Nodes, Storage};
 
+/// The firmware's `case` line without its tick and instruction counts (run.sh compares them).
+fn print_case(name: &str, o: &scenario::Outcome) {
+    println!(
+        "case {name} status={} valid={} length_milli={} length_bits={:#010x} evaluations={} iterations={} waypoints={} digest={:#018x}",
+        o.status,
+        o.valid,
+        o.length_milli,
+        o.length_bits,
+        o.evaluations,
+        o.iterations,
+        o.waypoints,
+        o.digest
+    );
+}
+
 #[test]
 fn host_digest_matches_the_mcu() {
     let mut s = Box::new(Storage::new());
@@ -28,33 +43,12 @@ fn host_digest_matches_the_mcu() {
             loaded = case.side;
         }
         let o = scenario::run_case(&mut s, &mut nodes, i);
-        println!(
-            "case {} status={} valid={} length_milli={} length_bits={:#010x} evaluations={} iterations={} waypoints={} digest={:#018x}",
-            case.name,
-            o.status,
-            o.valid,
-            o.length_milli,
-            o.length_bits,
-            o.evaluations,
-            o.iterations,
-            o.waypoints,
-            o.digest
-        );
+        print_case(case.name, &o);
         assert_eq!((o.status, o.valid), (0, 1), "{}", case.name);
         digests.push(o.digest);
     }
     let o = scenario::dwa_control_loop(&mut s, &mut nodes).expect("a route for the DWA loop");
-    println!(
-        "case dwa status={} valid={} length_milli={} length_bits={:#010x} evaluations={} iterations={} waypoints={} digest={:#018x}",
-        o.status,
-        o.valid,
-        o.length_milli,
-        o.length_bits,
-        o.evaluations,
-        o.iterations,
-        o.waypoints,
-        o.digest
-    );
+    print_case("dwa", &o);
     assert_eq!(
         (o.status, o.valid),
         (0, 1),
