@@ -12,7 +12,7 @@ use alloc::vec;
 use alloc::vec::Vec;
 
 use super::aco::{self, AcoParams, AcoWorkspace};
-use super::{GuideKind, PlanParams, PlanReport, PlannerKind, Workspace, plan};
+use super::{EncodingKind, GuideKind, PlanParams, PlanReport, PlannerKind, Workspace, plan};
 use crate::encoding::corridor::Station;
 use crate::error::PlanError;
 use crate::geometry::Cell;
@@ -173,7 +173,10 @@ impl HostPlanner {
                     algorithm,
                     ..*params
                 };
-                if params.guide == GuideKind::Visibility {
+                // Only the corridor encoding has a guide.
+                if params.guide == GuideKind::Visibility
+                    && params.encoding == EncodingKind::Corridor
+                {
                     let vg = self
                         .visibility
                         .get_or_insert_with(|| VisibilityGraph::new(grid));
