@@ -363,6 +363,11 @@ struct Terms {
     fit: f32,
 }
 
+/// Windows up to this many samples keep pass 1's terms for pass 2 (on the stack, 2 KiB)
+/// instead of rolling every sample out twice; larger windows roll out twice. (The default
+/// window has 7 x 15 = 105 samples.)
+const CACHED_SAMPLES: usize = 128;
+
 #[derive(Clone, Copy)]
 struct Range {
     lo: f32,
@@ -516,11 +521,20 @@ impl Dwa {
         let mut ranges_moving = [Range::EMPTY; 4];
         let mut admissible = 0u32;
         let mut admissible_moving = 0u32;
+        // Pass 1's terms, by sample index, when the window fits (evaluation is pure, so
+        // pass 2 reads exactly what it would recompute).
+        let total = c.v_samples as usize * c.w_samples as usize;
+        let mut cache = [None::<Terms>; CACHED_SAMPLES];
+        let cached = total <= CACHED_SAMPLES;
         for i in 0..c.v_samples {
             let v = sample(v_lo, v_hi, c.v_samples, i);
             for j in 0..c.w_samples {
                 let w = sample(w_lo, w_hi, c.w_samples, j);
-                if let Some(t) = self.evaluate(state, v, w, grid, discs, path) {
+                let terms = self.evaluate(state, v, w, grid, discs, path);
+                if cached {
+                    cache[i as usize * c.w_samples as usize + j as usize] = terms;
+                }
+                if let Some(t) = terms {
                     admissible += 1;
                     let terms = [t.heading, t.dist, t.vel, t.fit];
                     for (r, x) in ranges.iter_mut().zip(terms) {
@@ -557,7 +571,12 @@ impl Dwa {
                     if moving_only && v.abs() < STANDING_V {
                         continue;
                     }
-                    if let Some(t) = self.evaluate(state, v, w, grid, discs, path) {
+                    let terms = if cached {
+                        cache[i as usize * c.w_samples as usize + j as usize]
+                    } else {
+                        self.evaluate(state, v, w, grid, discs, path)
+                    };
+                    if let Some(t) = terms {
                         if moving_only && t.dist <= 0.0 {
                             continue;
                         }
