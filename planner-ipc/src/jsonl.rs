@@ -142,6 +142,27 @@ mod tests {
     use super::*;
 
     #[test]
+    fn parses_queries_and_reports_malformed_lines() {
+        let got = parse_queries("# header\n1 2 3 4\n\n1 2 x 4\n-1 0 0 99999999\n1 2 3\n");
+        assert_eq!(
+            got[0],
+            QueryLine::Query {
+                start: (1, 2),
+                goal: (3, 4)
+            }
+        );
+        assert!(matches!(got[1], QueryLine::Malformed { line: 4, .. }));
+        assert_eq!(
+            got[2],
+            QueryLine::Query {
+                start: (-1, 0),
+                goal: (0, 99999999)
+            }
+        );
+        assert!(matches!(got[3], QueryLine::Malformed { line: 6, .. }));
+    }
+
+    #[test]
     fn formats_like_host_sim() {
         let path = [[0.0, 0.0], [1.5, 2.0]];
         let ok = PathLine {

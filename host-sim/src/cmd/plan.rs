@@ -23,7 +23,7 @@ use planner_core::path::{Path, PathView};
 use planner_core::planner::aco::AcoParams;
 use planner_core::planner::owned::HostPlanner;
 use planner_core::planner::{EncodingKind, GuideKind, InitKind, PlanParams, PlannerKind};
-use planner_ipc::jsonl;
+use planner_ipc::jsonl::{self, QueryLine};
 use serde_json::{Value, json};
 use std::io::{BufWriter, Write};
 use std::path::PathBuf;
@@ -220,46 +220,6 @@ pub struct Query {
     pub goal: (i64, i64),
 }
 
-/// One line of a queries file.
-#[derive(Debug, PartialEq, Eq)]
-pub enum QueryLine {
-    /// A well-formed query.
-    Query(Query),
-    /// A line that is not four integers.
-    Malformed {
-        /// 1-based line number.
-        line: usize,
-        /// What was wrong.
-        detail: String,
-    },
-}
-
-/// Parses a queries file; comments and blank lines are skipped.
-pub fn parse_queries(text: &str) -> Vec<QueryLine> {
-    text.lines()
-        .enumerate()
-        .filter(|(_, l)| !l.trim().is_empty() && !l.trim_start().starts_with('#'))
-        .map(|(i, l)| {
-            let fields: Vec<&str> = l.split_whitespace().collect();
-            let nums: Result<Vec<i64>, _> = fields.iter().map(|f| f.parse::<i64>()).collect();
-            match nums {
-                Ok(n) if n.len() == 4 => QueryLine::Query(Query {
-                    start: (n[0], n[1]),
-                    goal: (n[2], n[3]),
-                }),
-                Ok(n) => QueryLine::Malformed {
-                    line: i + 1,
-                    detail: format!("expected 4 integers, found {}", n.len()),
-                },
-                Err(e) => QueryLine::Malformed {
-                    line: i + 1,
-                    detail: e.to_string(),
-                },
-            }
-        })
-        .collect()
-}
-
 /// A map prepared for repeated queries: the inflated grid and the planners' scratch.
 pub struct PreparedMap {
     grid: Box<HostGrid>,
@@ -382,9 +342,9 @@ pub fn run(args: &PlanArgs) -> anyhow::Result<()> {
         (Some(file), _, _) => {
             let text = std::fs::read_to_string(file)
                 .with_context(|| format!("cannot read queries {}", file.display()))?;
-            parse_queries(&text)
+            jsonl::parse_queries(&text)
         }
-        (None, Some(start), Some(goal)) => vec![QueryLine::Query(Query { start, goal })],
+        (None, Some(start), Some(goal)) => vec![QueryLine::Query { start, goal }],
         _ => anyhow::bail!("give --queries FILE or both --start and --goal"),
     };
     let sink: Box<dyn Write> = match &args.out {
@@ -397,7 +357,8 @@ pub fn run(args: &PlanArgs) -> anyhow::Result<()> {
     let mut out = BufWriter::new(sink);
     for line in lines {
         let value = match line {
-            QueryLine::Query(q) => {
+            QueryLine::Query { start, goal } => {
+                let q = Query { start, goal };
                 let outcome = prepared.plan(args.algo, &params, &aco, q, &mut []);
                 outcome_json(args.algo, args.seed, q, &outcome)
             }
@@ -415,27 +376,6 @@ pub fn run(args: &PlanArgs) -> anyhow::Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn parses_queries_and_reports_malformed_lines() {
-        let got = parse_queries("# header\n1 2 3 4\n\n1 2 x 4\n-1 0 0 99999999\n1 2 3\n");
-        assert_eq!(
-            got[0],
-            QueryLine::Query(Query {
-                start: (1, 2),
-                goal: (3, 4)
-            })
-        );
-        assert!(matches!(got[1], QueryLine::Malformed { line: 4, .. }));
-        assert_eq!(
-            got[2],
-            QueryLine::Query(Query {
-                start: (-1, 0),
-                goal: (0, 99999999)
-            })
-        );
-        assert!(matches!(got[3], QueryLine::Malformed { line: 6, .. }));
-    }
 
     #[test]
     fn out_of_range_coordinates_are_outside_the_map() {
