@@ -410,7 +410,7 @@ pub struct PlanParams {
     pub iterations: f32,
     /// Planner-specific extras: `extra[0]` = stagnation window in iterations (0: run to
     /// the horizon); `extra[1]` = the swarm planners' guide route (0: the visibility graph's
-    /// shortest route, 1: A*, 2: Theta*; see `planner_core::planner::GuideKind`); the rest
+    /// shortest route, 1: A*; see `planner_core::planner::GuideKind`); the rest
     /// reserved, zero.
     pub extra: [f32; 5],
 }
@@ -427,7 +427,6 @@ impl PlanParams {
         match guide {
             GuideKind::Visibility => 0.0,
             GuideKind::AStar => 1.0,
-            GuideKind::Theta => 2.0,
         }
     }
 
@@ -436,7 +435,6 @@ impl PlanParams {
         match code {
             0.0 => Some(GuideKind::Visibility),
             1.0 => Some(GuideKind::AStar),
-            2.0 => Some(GuideKind::Theta),
             _ => None,
         }
     }
@@ -818,8 +816,8 @@ mod tests {
         };
         assert_eq!(guide(0.0), Some(GuideKind::Visibility));
         assert_eq!(guide(1.0), Some(GuideKind::AStar));
-        assert_eq!(guide(2.0), Some(GuideKind::Theta));
-        for g in [GuideKind::Visibility, GuideKind::AStar, GuideKind::Theta] {
+        assert_eq!(guide(2.0), None);
+        for g in [GuideKind::Visibility, GuideKind::AStar] {
             assert_eq!(guide(PlanParams::guide_code(g)), Some(g));
         }
     }

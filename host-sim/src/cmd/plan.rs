@@ -107,8 +107,6 @@ pub struct SwarmArgs {
 pub enum GuideArg {
     /// The octile A* route.
     Astar,
-    /// The Theta* route (any-angle costs choose the way around obstacles).
-    Theta,
     /// The shortest any-angle route of the map's visibility graph (built once per map).
     Visibility,
 }
@@ -118,7 +116,6 @@ impl GuideArg {
     pub fn kind(self) -> GuideKind {
         match self {
             GuideArg::Astar => GuideKind::AStar,
-            GuideArg::Theta => GuideKind::Theta,
             GuideArg::Visibility => GuideKind::Visibility,
         }
     }

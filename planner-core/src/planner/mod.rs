@@ -47,7 +47,7 @@ use crate::optim::hho::{Hho, HhoParams};
 use crate::optim::random::Random;
 use crate::optim::{Bounds, Objective, OptimError, Optimizer, Settings};
 use crate::path::{self, PathView};
-use crate::search::{SearchNode, astar, check_endpoints, theta};
+use crate::search::{SearchNode, astar, check_endpoints};
 
 /// Every planner of the crate, by its command-line name.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -142,9 +142,6 @@ pub enum GuideKind {
     /// not in the class of the shortest any-angle path.
     #[default]
     AStar,
-    /// The Theta* route (any-angle costs pick the class), resampled along its segments so
-    /// that stations can sit between its few turning points.
-    Theta,
     /// A route the caller has written into [`Workspace::guide`] before calling [`plan`],
     /// normally the shortest any-angle path of the visibility graph
     /// ([`VisibilityGraph::route`](crate::search::visibility::VisibilityGraph::route), feature
@@ -154,11 +151,10 @@ pub enum GuideKind {
 }
 
 impl GuideKind {
-    /// `astar` or `theta`.
+    /// `astar` or `visibility`.
     pub const fn name(self) -> &'static str {
         match self {
             GuideKind::AStar => "astar",
-            GuideKind::Theta => "theta",
             GuideKind::Visibility => "visibility",
         }
     }
@@ -421,15 +417,6 @@ pub fn plan<const N: usize, const D: usize, O: PlanOptimizer<N, D>>(
     }
     match params.encoding {
         EncodingKind::Corridor => {
-            // Reachability is settled; `out` is free until the result is decoded. Should the
-            // Theta* route not fit (it has fewer points than the A* one), the A* guide stays.
-            if params.guide == GuideKind::Theta
-                && ws.guide.len() > 2
-                && theta::plan(grid, start, goal, ws.nodes, out).is_ok()
-                && out.len() <= ws.guide.capacity()
-            {
-                resample(grid, out, ws.guide);
-            }
             if ws.guide.len() <= 2 {
                 return trivial(grid, ws.guide, out);
             }
