@@ -143,6 +143,15 @@ impl World {
     }
 
     /// A random errand route from `from`, avoiding cells within 2 of `avoid` as goals.
+    /// Gives agent `i` a new errand from where it stands.
+    fn send_on_errand(&mut self, i: usize, grid: GridRef<'_>, avoid: &[Point]) {
+        let from = self.agents[i].pos;
+        let route = self.errand(grid, from, avoid);
+        let a = &mut self.agents[i];
+        a.route = route;
+        a.next = 1.min(a.route.len() - 1);
+    }
+
     fn errand(&mut self, grid: GridRef<'_>, from: Point, avoid: &[Point]) -> Vec<Point> {
         let Some(start) = from.cell(grid) else {
             return vec![from];
@@ -212,11 +221,7 @@ impl World {
             a.vel = (0.0, 0.0);
             if matches!(a.behaviour, Behaviour::Still) || a.route.len() < 2 {
                 if matches!(a.behaviour, Behaviour::Random) {
-                    let from = a.pos;
-                    let route = self.errand(grid, from, &[robot.0, goal]);
-                    let a = &mut self.agents[i];
-                    a.route = route;
-                    a.next = 1.min(a.route.len() - 1);
+                    self.send_on_errand(i, grid, &[robot.0, goal]);
                 }
                 continue;
             }
@@ -264,11 +269,7 @@ impl World {
                             a.next = 1.min(a.route.len() - 1);
                         }
                         Behaviour::Random => {
-                            let from = a.pos;
-                            let route = self.errand(grid, from, &[robot.0, goal]);
-                            let a = &mut self.agents[i];
-                            a.route = route;
-                            a.next = 1.min(a.route.len() - 1);
+                            self.send_on_errand(i, grid, &[robot.0, goal]);
                         }
                         Behaviour::Still => {}
                     }
@@ -287,11 +288,7 @@ impl World {
                             a.next = 1.min(a.route.len() - 1);
                         }
                         Behaviour::Random => {
-                            let from = a.pos;
-                            let route = self.errand(grid, from, &[robot.0, goal]);
-                            let a = &mut self.agents[i];
-                            a.route = route;
-                            a.next = 1.min(a.route.len() - 1);
+                            self.send_on_errand(i, grid, &[robot.0, goal]);
                         }
                         Behaviour::Still => {}
                     }
