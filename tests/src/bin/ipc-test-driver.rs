@@ -80,26 +80,10 @@ fn load(
     seed: u64,
     busy: bool,
 ) -> anyhow::Result<()> {
-    let grid = parse_map(&std::fs::read(map_file)?)?;
-    let (w, h) = (grid.width() as u64, grid.height() as u64);
-    let local = Engine::new(usize::MAX, 1);
-    let meta = MapMeta {
-        map_id,
-        version,
-        resolution: 1.0,
-        origin: [0.0; 2],
-    };
-    local.store.update(meta, Ok(grid));
+    let (local, w, h) = local_engine(map_file, (map_id, version))?;
     let mut scratch = Scratch::default();
     let mut client = client(prefix, busy)?;
-    let mut state = seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1;
-    let mut next = move || {
-        // xorshift64*
-        state ^= state >> 12;
-        state ^= state << 25;
-        state ^= state >> 27;
-        state.wrapping_mul(0x2545_F491_4F6C_DD1D)
-    };
+    let mut next = xorshift(seed);
     let (mut ok, mut mismatched, mut lost) = (0usize, 0usize, 0usize);
     let mut errors: BTreeMap<String, usize> = BTreeMap::new();
     let mut latencies = Vec::with_capacity(count);
@@ -165,25 +149,10 @@ fn churn(
     all_planners: bool,
     pause: Duration,
 ) -> anyhow::Result<()> {
-    let grid = parse_map(&std::fs::read(map_file)?)?;
-    let (w, h) = (grid.width() as u64, grid.height() as u64);
-    let local = Engine::new(usize::MAX, 1);
-    let meta = MapMeta {
-        map_id: map.0,
-        version: map.1,
-        resolution: 1.0,
-        origin: [0.0; 2],
-    };
-    local.store.update(meta, Ok(grid));
+    let (local, w, h) = local_engine(map_file, map)?;
     let mut scratch = Scratch::default();
     let mut client = client(prefix, false)?;
-    let mut state = seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1;
-    let mut next = move || {
-        state ^= state >> 12;
-        state ^= state << 25;
-        state ^= state >> 27;
-        state.wrapping_mul(0x2545_F491_4F6C_DD1D)
-    };
+    let mut next = xorshift(seed);
     let (mut sent, mut ok, mut outage, mut ok_after_outage, mut mismatched, mut unexpected) =
         (0u64, 0u64, 0u64, 0u64, 0u64, 0u64);
     let mut kinds: BTreeMap<String, u64> = BTreeMap::new();
@@ -252,4 +221,31 @@ fn churn(
     });
     println!("{summary}");
     Ok(())
+}
+
+/// An in-process engine holding `map_file` as `(map_id, version)`: the oracle every answer
+/// from the server is compared with. Also returns the map's width and height.
+fn local_engine(map_file: &str, map: (u32, u32)) -> anyhow::Result<(Engine, u64, u64)> {
+    let grid = parse_map(&std::fs::read(map_file)?)?;
+    let (w, h) = (grid.width() as u64, grid.height() as u64);
+    let local = Engine::new(usize::MAX, 1);
+    let meta = MapMeta {
+        map_id: map.0,
+        version: map.1,
+        resolution: 1.0,
+        origin: [0.0; 2],
+    };
+    local.store.update(meta, Ok(grid));
+    Ok((local, w, h))
+}
+
+/// xorshift64* from `seed`: the driver's query stream.
+fn xorshift(seed: u64) -> impl FnMut() -> u64 {
+    let mut state = seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1;
+    move || {
+        state ^= state >> 12;
+        state ^= state << 25;
+        state ^= state >> 27;
+        state.wrapping_mul(0x2545_F491_4F6C_DD1D)
+    }
 }
