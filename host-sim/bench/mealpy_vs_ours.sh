@@ -28,17 +28,10 @@ ITERS=500
 
 ROOT="$(cd "$(dirname "$0")/../.." && pwd)"
 cd "$ROOT"
-VENV="$ROOT/target/mealpy-venv"
 OUT="$ROOT/target/mealpy-bench"
 mkdir -p "$OUT"
 
-if [ ! -x "$VENV/bin/python" ]; then
-    python3 -m venv "$VENV"
-fi
-if ! "$VENV/bin/python" -c "import mealpy" 2>/dev/null; then
-    "$VENV/bin/pip" install --quiet mealpy
-fi
-MEALPY_VERSION="$("$VENV/bin/python" -c "import mealpy; print(mealpy.__version__)")"
+. "$ROOT/host-sim/bench/mealpy_env.sh"
 
 cargo build --release --quiet -p host-sim
 BIN="$ROOT/target/release/host-sim"
