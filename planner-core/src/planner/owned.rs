@@ -105,6 +105,13 @@ impl HostPlanner {
         Ok(())
     }
 
+    /// The visibility graph of the prepared map (`grid` must be the one passed to
+    /// [`prepare`](Self::prepare)), built on first use and kept until the next `prepare`.
+    pub fn visibility_graph(&mut self, grid: GridRef<'_>) -> &VisibilityGraph {
+        self.visibility
+            .get_or_insert_with(|| VisibilityGraph::new(grid))
+    }
+
     /// The component labels of the prepared map.
     pub fn labels(&self) -> &[u32] {
         &self.labels[..self.cells]
