@@ -18,6 +18,7 @@ use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use planner_core::geometry::Cell;
 use planner_core::grid::{Grid, GridRef, words_for};
 use planner_core::path::Path;
+use planner_core::search::astar::{AStarNode, OpenSlot, open_capacity};
 use planner_core::search::{SearchNode, astar, theta};
 use std::hint::black_box;
 use std::path::PathBuf;
@@ -98,12 +99,14 @@ fn bench_map(c: &mut Criterion, map: &str) {
     let qs = queries(&format!("{map}-random-1.scen"));
     assert_eq!(qs.len(), QUERIES);
     let mut nodes = vec![SearchNode::EMPTY; g.cells()];
+    let mut astar_nodes = vec![AStarNode::EMPTY; g.cells()];
+    let mut open = vec![OpenSlot::EMPTY; open_capacity(g.cells())];
     let mut out: Box<Path<4096>> = Box::new(Path::new());
 
     // Same answers before timing anything.
     let mut expanded = 0u64;
     for &(s, t) in &qs {
-        let ours = astar::plan(g, s, t, &mut nodes, &mut *out).unwrap();
+        let ours = astar::plan(g, s, t, &mut astar_nodes, &mut open, &mut *out).unwrap();
         expanded += ours.expanded as u64;
         let (pf_path, pf_cost) = pathfinding_astar(g, s, t).unwrap();
         let pf = pf_cost as f64 / UNIT as f64;
@@ -132,7 +135,7 @@ fn bench_map(c: &mut Criterion, map: &str) {
     for _ in 0..20 {
         let t0 = Instant::now();
         for &(s, t) in &qs {
-            black_box(astar::plan(g, s, t, &mut nodes, &mut *out).unwrap());
+            black_box(astar::plan(g, s, t, &mut astar_nodes, &mut open, &mut *out).unwrap());
         }
         ours_best = ours_best.min(t0.elapsed().as_secs_f64());
         let t0 = Instant::now();
@@ -156,7 +159,9 @@ fn bench_map(c: &mut Criterion, map: &str) {
         b.iter(|| {
             let mut sum = 0.0f32;
             for &(s, t) in &qs {
-                sum += astar::plan(g, s, t, &mut nodes, &mut *out).unwrap().length;
+                sum += astar::plan(g, s, t, &mut astar_nodes, &mut open, &mut *out)
+                    .unwrap()
+                    .length;
             }
             black_box(sum)
         })

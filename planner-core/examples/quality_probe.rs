@@ -6,6 +6,7 @@ use planner_core::grid::{Grid, words_for};
 use planner_core::optim::any::{AlgorithmKind, AnyOptimizer};
 use planner_core::path::{Path, validate};
 use planner_core::planner::{PlanParams, Workspace, plan};
+use planner_core::search::astar::{AStarNode, OpenSlot, open_capacity};
 use planner_core::search::{SearchNode, astar, theta};
 use std::time::Instant;
 
@@ -23,6 +24,8 @@ fn main() {
     let spacing: f32 = a.get(8).and_then(|s| s.parse().ok()).unwrap_or(3.0);
     let cells = grid.view().cells();
     let mut nodes = vec![SearchNode::EMPTY; cells];
+    let mut astar_nodes = vec![AStarNode::EMPTY; cells];
+    let mut open = vec![OpenSlot::EMPTY; open_capacity(cells)];
     let mut guide: Box<Path<4096>> = Box::new(Path::new());
     let mut visited = vec![0u32; cells / 32 + 1];
     let (mut sum_opt, mut sum_a, mut sum_th, mut sum_ours, mut worst) =
@@ -45,7 +48,7 @@ fn main() {
         let (s, g) = (Cell::new(sx, sy), Cell::new(gx, gy));
         let mut p: Box<Path<4096>> = Box::new(Path::new());
         let t0 = Instant::now();
-        let ar = astar::plan(grid.view(), s, g, &mut nodes, &mut *p).unwrap();
+        let ar = astar::plan(grid.view(), s, g, &mut astar_nodes, &mut open, &mut *p).unwrap();
         t_a += t0.elapsed().as_secs_f64();
         let t0 = Instant::now();
         let tr = theta::plan(grid.view(), s, g, &mut nodes, &mut *p).unwrap();
@@ -59,7 +62,8 @@ fn main() {
             ..PlanParams::new(algo)
         };
         let mut ws = Workspace {
-            nodes: &mut nodes,
+            nodes: &mut astar_nodes,
+            open: &mut open,
             guide: &mut *guide,
             visited: &mut visited,
             stations: &mut [Station::EMPTY; 64],

@@ -212,7 +212,7 @@ pub fn x_monotone_feasible(grid: GridRef<'_>, start: Cell, goal: Cell) -> bool {
 mod tests {
     use super::*;
     use crate::grid::words_for;
-    use crate::search::{SearchNode, astar};
+    use crate::search::astar::{self, AStarNode, OpenSlot};
 
     type G = Grid<{ words_for(40, 40) }>;
 
@@ -227,9 +227,18 @@ mod tests {
                     x_monotone_feasible(a.grid.view(), a.start, a.goal),
                     "{kind:?} {size}"
                 );
-                let mut nodes = [SearchNode::EMPTY; 1600];
+                let mut nodes = [AStarNode::EMPTY; 1600];
+                let mut open = [OpenSlot::EMPTY; 1600];
                 let mut path: crate::path::Path<400> = crate::path::Path::new();
-                astar::plan(a.grid.view(), a.start, a.goal, &mut nodes, &mut path).unwrap();
+                astar::plan(
+                    a.grid.view(),
+                    a.start,
+                    a.goal,
+                    &mut nodes,
+                    &mut open,
+                    &mut path,
+                )
+                .unwrap();
                 let blocked = a.grid.view().blocked_count() as f32 / (size * size) as f32;
                 assert!(blocked > 0.05 && blocked < 0.5, "{kind:?} {size} {blocked}");
             }
@@ -239,9 +248,18 @@ mod tests {
     #[test]
     fn lab_map_is_solvable() {
         let lab = lab_20x20::<{ words_for(20, 20) }>().unwrap();
-        let mut nodes = [SearchNode::EMPTY; 400];
+        let mut nodes = [AStarNode::EMPTY; 400];
+        let mut open = [OpenSlot::EMPTY; 400];
         let mut path: crate::path::Path<400> = crate::path::Path::new();
-        astar::plan(lab.grid.view(), lab.start, lab.goal, &mut nodes, &mut path).unwrap();
+        astar::plan(
+            lab.grid.view(),
+            lab.start,
+            lab.goal,
+            &mut nodes,
+            &mut open,
+            &mut path,
+        )
+        .unwrap();
     }
 
     #[test]

@@ -17,6 +17,7 @@
 use planner_core::geometry::{Cell, Point};
 use planner_core::grid::{Grid, words_for};
 use planner_core::path::{self, Path};
+use planner_core::search::astar::{AStarNode, OpenSlot, open_capacity};
 use planner_core::search::{SearchNode, astar, connectivity, theta};
 use std::path::PathBuf;
 
@@ -106,6 +107,8 @@ fn check_map(map_name: &str, scens: &[&str]) -> Summary {
     let mut labels = vec![0u32; g.cells()];
     connectivity::label(g, &mut labels).unwrap();
     let mut nodes = vec![SearchNode::EMPTY; g.cells()];
+    let mut astar_nodes = vec![AStarNode::EMPTY; g.cells()];
+    let mut open = vec![OpenSlot::EMPTY; open_capacity(g.cells())];
     let mut a_path = Box::new(Buf::new());
     let mut t_path = Box::new(Buf::new());
     let mut l_path = Box::new(Buf::new());
@@ -122,9 +125,11 @@ fn check_map(map_name: &str, scens: &[&str]) -> Summary {
             assert_eq!(connectivity::connected(g, &labels, s, t), Ok(true), "{at}");
 
             // A*: golden length, valid path, reported length = path length.
-            let a = astar::plan(g, s, t, &mut nodes, &mut *a_path).unwrap_or_else(|e| {
-                panic!("{at}: A* failed: {e:?}");
-            });
+            let a = astar::plan(g, s, t, &mut astar_nodes, &mut open, &mut *a_path).unwrap_or_else(
+                |e| {
+                    panic!("{at}: A* failed: {e:?}");
+                },
+            );
             assert_eq!(path::validate(g, &a_path, s, t), Ok(()), "{at}");
             let (o, d) = step_counts(&a_path);
             let exact = o as f64 + d as f64 * std::f64::consts::SQRT_2;
@@ -153,8 +158,16 @@ fn check_map(map_name: &str, scens: &[&str]) -> Summary {
             }
 
             // The labelled variant gives the identical answer.
-            let l =
-                astar::plan_with_labels(g, s, t, Some(&labels), &mut nodes, &mut *l_path).unwrap();
+            let l = astar::plan_with_labels(
+                g,
+                s,
+                t,
+                Some(&labels),
+                &mut astar_nodes,
+                &mut open,
+                &mut *l_path,
+            )
+            .unwrap();
             assert_eq!((l, &l_path[..]), (a, &a_path[..]), "{at}");
 
             // Theta*: valid, not longer than A*, not shorter than the straight line.

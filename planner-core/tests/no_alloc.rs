@@ -8,6 +8,7 @@
 use planner_core::geometry::Cell;
 use planner_core::grid::{Grid, words_for};
 use planner_core::path::Path;
+use planner_core::search::astar::{AStarNode, OpenSlot, open_capacity};
 use planner_core::search::{SearchNode, astar, connectivity, theta};
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell as StdCell;
@@ -94,6 +95,8 @@ fn planners_do_not_allocate() {
         })
         .collect();
     let mut nodes = vec![SearchNode::EMPTY; g.cells()];
+    let mut astar_nodes = vec![AStarNode::EMPTY; g.cells()];
+    let mut open = vec![OpenSlot::EMPTY; open_capacity(g.cells())];
     let mut labels = vec![0u32; g.cells()];
     let mut out: Box<Path<2048>> = Box::new(Path::new());
     let mut total = 0.0f32;
@@ -102,18 +105,38 @@ fn planners_do_not_allocate() {
         connectivity::label(g, &mut labels).unwrap();
         for _ in 0..3 {
             for &(s, t) in &queries {
-                total += astar::plan(g, s, t, &mut nodes, &mut *out).unwrap().length;
-                total += theta::plan(g, s, t, &mut nodes, &mut *out).unwrap().length;
-                total += astar::plan_with_labels(g, s, t, Some(&labels), &mut nodes, &mut *out)
+                total += astar::plan(g, s, t, &mut astar_nodes, &mut open, &mut *out)
                     .unwrap()
                     .length;
+                total += theta::plan(g, s, t, &mut nodes, &mut *out).unwrap().length;
+                total += astar::plan_with_labels(
+                    g,
+                    s,
+                    t,
+                    Some(&labels),
+                    &mut astar_nodes,
+                    &mut open,
+                    &mut *out,
+                )
+                .unwrap()
+                .length;
                 total += theta::plan_with_labels(g, s, t, Some(&labels), &mut nodes, &mut *out)
                     .unwrap()
                     .length;
             }
             // Error paths too.
             let blocked = Cell::new(0, 0);
-            assert!(astar::plan(g, blocked, queries[0].1, &mut nodes, &mut *out).is_err());
+            assert!(
+                astar::plan(
+                    g,
+                    blocked,
+                    queries[0].1,
+                    &mut astar_nodes,
+                    &mut open,
+                    &mut *out
+                )
+                .is_err()
+            );
             assert!(
                 theta::plan(g, queries[0].0, Cell::new(999, 0), &mut nodes, &mut *out).is_err()
             );

@@ -33,6 +33,7 @@ use planner_core::planner::aco::{self, AcoParams, AcoWorkspace};
 use planner_core::planner::{
     self, EncodingKind, InitKind, PlanParams, PlanReport, PlannerKind, Workspace,
 };
+use planner_core::search::astar::{AStarNode, OpenSlot};
 use planner_core::search::{SearchNode, astar, connectivity, theta};
 use proptest::prelude::*;
 use proptest::test_runner::Config;
@@ -226,10 +227,17 @@ fn run(
     aco_params: &AcoParams,
     out: &mut Out,
 ) -> Result<Option<PlanReport>, PlanError> {
-    let mut nodes = [SearchNode::EMPTY; CELLS];
+    let mut nodes = [AStarNode::EMPTY; CELLS];
+    // Fewer open slots than cells: a caller-chosen capacity, enough for these small maps.
+    let mut open = [OpenSlot::EMPTY; CELLS / 2];
     match kind {
-        PlannerKind::AStar => astar::plan(grid, start, goal, &mut nodes, out).map(|_| None),
-        PlannerKind::Theta => theta::plan(grid, start, goal, &mut nodes, out).map(|_| None),
+        PlannerKind::AStar => {
+            astar::plan(grid, start, goal, &mut nodes, &mut open, out).map(|_| None)
+        }
+        PlannerKind::Theta => {
+            let mut nodes = [SearchNode::EMPTY; CELLS];
+            theta::plan(grid, start, goal, &mut nodes, out).map(|_| None)
+        }
         PlannerKind::Aco => {
             let mut labels = [0u32; CELLS];
             connectivity::label(grid, &mut labels)?;
@@ -254,6 +262,7 @@ fn run(
             let mut stations = [Station::EMPTY; D];
             let mut ws = Workspace {
                 nodes: &mut nodes,
+                open: &mut open,
                 guide: &mut guide,
                 visited: &mut visited,
                 stations: &mut stations,

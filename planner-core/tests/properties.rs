@@ -29,6 +29,7 @@ use planner_core::PlanError;
 use planner_core::geometry::{Cell, Point, line_of_sight, segment_clearance, segment_is_clear};
 use planner_core::grid::{Grid, words_for};
 use planner_core::path::{self, Path};
+use planner_core::search::astar::{AStarNode, OpenSlot, open_capacity};
 use planner_core::search::{SearchNode, astar, connectivity, theta};
 use proptest::prelude::*;
 use proptest::test_runner::Config;
@@ -418,11 +419,13 @@ proptest! {
         let grid = m.grid();
         let g = grid.view();
         let mut nodes = vec![SearchNode::EMPTY; g.cells()];
+        let mut astar_nodes = vec![AStarNode::EMPTY; g.cells()];
+        let mut open = vec![OpenSlot::EMPTY; open_capacity(g.cells())];
         let mut labels = vec![0u32; g.cells()];
         connectivity::label(g, &mut labels).unwrap();
         let mut a_path = Buf::new();
         let mut t_path = Buf::new();
-        let a = astar::plan(g, s, t, &mut nodes, &mut a_path);
+        let a = astar::plan(g, s, t, &mut astar_nodes, &mut open, &mut a_path);
         let th = theta::plan(g, s, t, &mut nodes, &mut t_path);
         let conn = connectivity::connected(g, &labels, s, t);
 
@@ -437,7 +440,7 @@ proptest! {
         let dist = dijkstra(&m, s, t);
         prop_assert_eq!(dist.is_some(), reachable);
         let mut l_path = Buf::new();
-        let labelled = astar::plan_with_labels(g, s, t, Some(&labels), &mut nodes, &mut l_path);
+        let labelled = astar::plan_with_labels(g, s, t, Some(&labels), &mut astar_nodes, &mut open, &mut l_path);
         prop_assert_eq!(labelled, a);
         let Some(dist) = dist else {
             prop_assert_eq!(a, Err(PlanError::NoValidPath));

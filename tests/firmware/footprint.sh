@@ -33,7 +33,7 @@ echo "| flash (.vector_table+.text+.rodata+.data) | $flash B ($(kib $flash)) | $
 echo "| static RAM (.data $data + .bss $bss) | $sram B ($(kib $sram)) | | |"
 symsize() { printf '%d' "0x$(arm-none-eabi-nm -S -C "$elf" | awk -v s="$1" '$4 == s { print $2 }')"; }
 nodes=$(symsize planner_firmware::NODES); storage=$(symsize planner_firmware::STORAGE)
-echo "| - A* nodes (static NODES, 64x64 x 24 B) | $nodes B ($(kib $nodes)) | | |"
+echo "| - A* nodes + open list (static NODES, 64x64 x 4 B + 512 x 12 B) | $nodes B ($(kib $nodes)) | | |"
 echo "| - map, paths, stations, TCLHHO + IGWO state (static STORAGE) | $storage B ($(kib $storage)) | | |"
 echo "| peak stack (painting) | $stack B ($(kib $stack)) | | |"
 echo "| static RAM + stack | $ram B ($(kib $ram)) | $(kib $RAM_BUDGET) | $(check r $ram $RAM_BUDGET) |"

@@ -17,6 +17,7 @@ use anyhow::Context;
 use planner_core::geometry::{Cell, Point};
 use planner_core::grid::GridRef;
 use planner_core::path::{Path, PathView};
+use planner_core::search::astar::{AStarNode, OpenSlot, open_capacity};
 use planner_core::search::{SearchNode, astar, theta};
 use std::path::PathBuf;
 
@@ -46,9 +47,12 @@ fn parse_cell(text: &str) -> Result<Cell, String> {
 /// Plans with A* and Theta*; returns both paths and their lengths.
 fn plan_both(grid: GridRef<'_>, start: Cell, goal: Cell) -> anyhow::Result<[(Vec<Point>, f32); 2]> {
     let mut nodes = vec![SearchNode::EMPTY; grid.cells()];
+    let mut astar_nodes = vec![AStarNode::EMPTY; grid.cells()];
+    let mut open = vec![OpenSlot::EMPTY; open_capacity(grid.cells())];
     let mut path: Box<Path<{ 1 << 16 }>> = Box::new(Path::new());
     let out: &mut PathView = &mut *path;
-    let a = astar::plan(grid, start, goal, &mut nodes, out).map_err(anyhow::Error::msg)?;
+    let a = astar::plan(grid, start, goal, &mut astar_nodes, &mut open, out)
+        .map_err(anyhow::Error::msg)?;
     let a_path = out.to_vec();
     let t = theta::plan(grid, start, goal, &mut nodes, out).map_err(anyhow::Error::msg)?;
     Ok([(a_path, a.length), (out.to_vec(), t.length)])

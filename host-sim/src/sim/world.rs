@@ -11,7 +11,7 @@ use planner_core::dwa::DynamicDisc;
 use planner_core::geometry::{Cell, Point};
 use planner_core::grid::GridRef;
 use planner_core::path::{Path, PathView};
-use planner_core::search::{SearchNode, astar};
+use planner_core::search::astar::{self, AStarNode, OpenSlot, open_capacity};
 use rand_core::{Rng, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
 
@@ -121,7 +121,8 @@ pub struct World {
     /// The obstacles.
     pub agents: Vec<Agent>,
     rng: Xoshiro256PlusPlus,
-    nodes: Vec<SearchNode>,
+    nodes: Vec<AStarNode>,
+    open: Vec<OpenSlot>,
     path: Box<Path<4096>>,
     free: Vec<Cell>,
 }
@@ -136,7 +137,8 @@ impl World {
         World {
             agents: Vec::new(),
             rng: Xoshiro256PlusPlus::seed_from_u64(seed),
-            nodes: vec![SearchNode::EMPTY; grid.cells()],
+            nodes: vec![AStarNode::EMPTY; grid.cells()],
+            open: vec![OpenSlot::EMPTY; open_capacity(grid.cells())],
             path: Box::new(Path::new()),
             free,
         }
@@ -165,7 +167,7 @@ impl World {
                 continue;
             }
             let out: &mut PathView = &mut *self.path;
-            if astar::plan(grid, start, goal, &mut self.nodes, out).is_ok() {
+            if astar::plan(grid, start, goal, &mut self.nodes, &mut self.open, out).is_ok() {
                 let mut route = vec![from];
                 route.extend(out.iter().skip(1));
                 return route;

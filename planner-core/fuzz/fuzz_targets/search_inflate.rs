@@ -10,6 +10,7 @@ use common::{EndpointInput, FloatInput, MapInput, SmallGrid};
 use libfuzzer_sys::fuzz_target;
 use planner_core::error::PlanError;
 use planner_core::path::{self, Path};
+use planner_core::search::astar::{AStarNode, OpenSlot};
 use planner_core::search::{SearchNode, astar, check_endpoints, connectivity, theta};
 
 #[derive(Arbitrary, Debug)]
@@ -49,9 +50,11 @@ fuzz_target!(|input: Input| {
     let mut labels = [0u32; 576];
     connectivity::label(view, &mut labels).expect("labels fit");
     let mut nodes = [SearchNode::EMPTY; 576];
+    let mut astar_nodes = [AStarNode::EMPTY; 576];
+    let mut open = [OpenSlot::EMPTY; 576];
     let mut out: Path<600> = Path::new();
     let labels_opt = if input.use_labels { Some(&labels[..]) } else { None };
-    let a = astar::plan_with_labels(view, start, goal, labels_opt, &mut nodes, &mut out);
+    let a = astar::plan_with_labels(view, start, goal, labels_opt, &mut astar_nodes, &mut open, &mut out);
     let endpoint = check_endpoints(view, start, goal);
     let connected = connectivity::connected(view, &labels, start, goal);
     match endpoint {
@@ -88,6 +91,6 @@ fuzz_target!(|input: Input| {
         Err(e) => panic!("unexpected A* error {e:?}"),
     }
     // Nodes are left reusable: a second run gives the same answer.
-    let again = astar::plan(view, start, goal, &mut nodes, &mut out);
+    let again = astar::plan(view, start, goal, &mut astar_nodes, &mut open, &mut out);
     assert_eq!(again.is_ok(), connected);
 });

@@ -288,14 +288,15 @@ mod tests {
     use crate::geometry::Cell;
     use crate::grid::{Grid, words_for};
     use crate::path::{Path, length, validate};
-    use crate::search::{SearchNode, astar};
+    use crate::search::astar::{self, AStarNode, OpenSlot};
 
     type G = Grid<{ words_for(32, 32) }>;
 
     fn guide_for(g: &G, s: Cell, t: Cell) -> Path<256> {
-        let mut nodes = [SearchNode::EMPTY; 1024];
+        let mut nodes = [AStarNode::EMPTY; 1024];
+        let mut open = [OpenSlot::EMPTY; 1024];
         let mut p = Path::new();
-        astar::plan(g.view(), s, t, &mut nodes, &mut p).unwrap();
+        astar::plan(g.view(), s, t, &mut nodes, &mut open, &mut p).unwrap();
         p
     }
 

@@ -8,18 +8,20 @@
 //! under seed 003's looser rule when that reproduction option was asked for).
 //!
 //! ```
-//! use planner_core::{grid::{words_for, Grid}, geometry::Cell, path::Path, search::SearchNode};
+//! use planner_core::{grid::{words_for, Grid}, geometry::Cell, path::Path};
+//! use planner_core::search::astar::{open_capacity, AStarNode, OpenSlot};
 //! use planner_core::planner::{plan, PlanParams, Workspace};
 //! use planner_core::encoding::corridor::Station;
 //! use planner_core::optim::any::{AlgorithmKind, AnyOptimizer};
 //!
 //! let grid: Grid<{ words_for(12, 6) }> = Grid::parse_rows(
 //!     b"............\n....@@@@....\n....@@@@....\n............\n..@@@@@@@@..\n............\n")?;
-//! let mut nodes = [SearchNode::EMPTY; 72];
+//! let mut nodes = [AStarNode::EMPTY; 72];
+//! let mut open = [OpenSlot::EMPTY; open_capacity(72)];
 //! let mut guide: Path<128> = Path::new();
-//! let mut visited = [0u32; 4];
 //! let mut stations = [Station::EMPTY; 16];
-//! let mut ws = Workspace { nodes: &mut nodes, guide: &mut guide, visited: &mut visited, stations: &mut stations };
+//! // The corridor encoding needs no `visited` bitset (only the walk encoding does).
+//! let mut ws = Workspace { nodes: &mut nodes, open: &mut open, guide: &mut guide, visited: &mut [], stations: &mut stations };
 //! // Any `PlanOptimizer`: `AnyOptimizer` serves every algorithm; firmware keeps a `Hho` or a
 //! // `Gwo` in a `static` instead (see `PlanOptimizer`).
 //! let mut optimizer = AnyOptimizer::<30, 16>::unconfigured();
@@ -47,7 +49,8 @@ use crate::optim::hho::{Hho, HhoParams};
 use crate::optim::random::Random;
 use crate::optim::{Bounds, Objective, OptimError, Optimizer, Settings};
 use crate::path::{self, PathView};
-use crate::search::{SearchNode, astar, check_endpoints};
+use crate::search::astar::{self, AStarNode, OpenSlot};
+use crate::search::check_endpoints;
 
 /// Every planner of the crate, by its command-line name.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -285,11 +288,16 @@ pub struct PlanReport {
 
 /// Caller-owned scratch of a plan; no allocation happens inside [`plan`].
 pub struct Workspace<'a> {
-    /// One search node per map cell (guide route, reachability).
-    pub nodes: &'a mut [SearchNode],
+    /// One A* node per map cell (guide route, reachability).
+    pub nodes: &'a mut [AStarNode],
+    /// The A* open list: [`astar::open_capacity`] slots never overflow; fewer are the
+    /// caller's choice ([`PlanError::CapacityExceeded`] when a search outgrows them).
+    pub open: &'a mut [OpenSlot],
     /// The guide route of the corridor encoding (up to its capacity in waypoints).
     pub guide: &'a mut PathView,
-    /// A bitset of `cells / 32 + 1` words (walk encoding).
+    /// A bitset of `cells / 32 + 1` words for the walk encoding; other encodings never read
+    /// it, so they may pass an empty slice (the walk encoding then fails with
+    /// [`PlanError::CapacityExceeded`]).
     pub visited: &'a mut [u32],
     /// The stations of the corridor encoding: `D` of them use every dimension of a plan
     /// with capacity `D` (fewer cap the number of decision variables at `len - 2`).
@@ -413,7 +421,7 @@ pub fn plan<const N: usize, const D: usize, O: PlanOptimizer<N, D>>(
     if given {
         resample(grid, out, ws.guide);
     } else {
-        astar::plan(grid, start, goal, ws.nodes, ws.guide)?;
+        astar::plan(grid, start, goal, ws.nodes, ws.open, ws.guide)?;
     }
     match params.encoding {
         EncodingKind::Corridor => {

@@ -19,6 +19,7 @@ use crate::geometry::Cell;
 use crate::grid::GridRef;
 use crate::optim::any::AnyOptimizer;
 use crate::path::{self, Path, PathView};
+use crate::search::astar::{AStarNode, OpenSlot, open_capacity};
 use crate::search::visibility::VisibilityGraph;
 use crate::search::{SearchNode, astar, connectivity, theta};
 
@@ -46,7 +47,10 @@ pub struct Outcome {
 pub struct HostPlanner {
     cells: usize,
     labels: Vec<u32>,
-    nodes: Vec<SearchNode>,
+    nodes: Vec<AStarNode>,
+    open: Vec<OpenSlot>,
+    /// Theta* nodes (24 bytes a cell): made on first use.
+    theta_nodes: Vec<SearchNode>,
     guide: Box<Path<GUIDE_CAPACITY>>,
     visited: Vec<u32>,
     tau: Vec<f32>,
@@ -74,6 +78,8 @@ impl HostPlanner {
             cells: 0,
             labels: Vec::new(),
             nodes: Vec::new(),
+            open: Vec::new(),
+            theta_nodes: Vec::new(),
             guide: Box::new(Path::new()),
             visited: Vec::new(),
             tau: Vec::new(),
@@ -90,7 +96,9 @@ impl HostPlanner {
     pub fn prepare(&mut self, grid: GridRef<'_>) -> Result<(), PlanError> {
         let cells = grid.cells();
         if self.nodes.len() < cells {
-            self.nodes = vec![SearchNode::EMPTY; cells];
+            self.nodes = vec![AStarNode::EMPTY; cells];
+            self.open = vec![OpenSlot::EMPTY; open_capacity(cells)];
+            self.theta_nodes.clear();
             self.labels = vec![0; cells];
             self.visited = vec![0; cells / 32 + 1];
             self.walk = vec![0; cells];
@@ -138,12 +146,17 @@ impl HostPlanner {
         let labels = &self.labels[..self.cells];
         match kind {
             PlannerKind::AStar | PlannerKind::Theta => {
-                let run = if kind == PlannerKind::AStar {
-                    astar::plan_with_labels
+                let labels = Some(labels);
+                let stats = if kind == PlannerKind::AStar {
+                    let (nodes, open) = (&mut self.nodes, &mut self.open);
+                    astar::plan_with_labels(grid, start, goal, labels, nodes, open, out)?
                 } else {
-                    theta::plan_with_labels
+                    if self.theta_nodes.len() < self.cells {
+                        self.theta_nodes = vec![SearchNode::EMPTY; self.cells];
+                    }
+                    let nodes = &mut self.theta_nodes;
+                    theta::plan_with_labels(grid, start, goal, labels, nodes, out)?
                 };
-                let stats = run(grid, start, goal, Some(labels), &mut self.nodes, out)?;
                 Ok(Outcome {
                     length: stats.length,
                     turns: path::turns(out),
@@ -194,6 +207,7 @@ impl HostPlanner {
                 }
                 let mut ws = Workspace {
                     nodes: &mut self.nodes,
+                    open: &mut self.open,
                     guide: &mut *self.guide,
                     visited: &mut self.visited,
                     stations: &mut self.stations[..],

@@ -9,7 +9,8 @@ use std::{boxed::Box, vec};
 type G = Grid<{ words_for(40, 40) }>;
 
 struct Scratch {
-    nodes: [SearchNode; 1600],
+    nodes: [AStarNode; 1600],
+    open: [OpenSlot; 1600],
     guide: Path<1600>,
     visited: [u32; 51],
 }
@@ -17,7 +18,8 @@ struct Scratch {
 impl Scratch {
     fn new() -> Box<Self> {
         Box::new(Scratch {
-            nodes: [SearchNode::EMPTY; 1600],
+            nodes: [AStarNode::EMPTY; 1600],
+            open: [OpenSlot::EMPTY; 1600],
             guide: Path::new(),
             visited: [0; 51],
         })
@@ -32,6 +34,7 @@ impl Scratch {
     ) -> Result<(PlanReport, Path<1600>), PlanError> {
         let mut ws = Workspace {
             nodes: &mut self.nodes,
+            open: &mut self.open,
             guide: &mut self.guide,
             visited: &mut self.visited,
             stations: &mut [Station::EMPTY; 64],
@@ -237,11 +240,13 @@ fn every_error_from_bad_input() {
         PlanError::BudgetExhausted
     );
     // Small buffers.
-    let mut nodes = [SearchNode::EMPTY; 4];
+    let mut nodes = [AStarNode::EMPTY; 4];
+    let mut open = [OpenSlot::EMPTY; 4];
     let mut guide: Path<4> = Path::new();
     let mut visited = [0u32; 1];
     let mut ws = Workspace {
         nodes: &mut nodes,
+        open: &mut open,
         guide: &mut guide,
         visited: &mut visited,
         stations: &mut [Station::EMPTY; 64],
@@ -289,6 +294,7 @@ fn trivial_queries_and_interrupts() {
     let m = seed000::<{ words_for(40, 40) }>(MapKind::Warehouse, 30).unwrap();
     let mut ws = Workspace {
         nodes: &mut sc.nodes,
+        open: &mut sc.open,
         guide: &mut sc.guide,
         visited: &mut sc.visited,
         stations: &mut [Station::EMPTY; 64],
@@ -421,4 +427,49 @@ fn visibility_guide_finds_the_shortest_class_and_falls_back_to_a_star() {
     let (fallback, path) = scratch.run(&g, s, t, &params).unwrap();
     assert_eq!(validate(g.view(), &path, s, t), Ok(()));
     assert_eq!(fallback.length, astar_guided.length);
+}
+
+/// Only the walk encoding reads `visited`: the others plan with an empty slice (firmware
+/// saves the bitset), and the walk encoding refuses it with a typed error, not a panic.
+#[test]
+fn visited_bitset_only_for_the_walk_encoding() {
+    let lab = lab_20x20::<{ words_for(40, 40) }>().unwrap();
+    let mut nodes = vec![AStarNode::EMPTY; 400];
+    let mut open = vec![OpenSlot::EMPTY; 400];
+    let mut guide: Path<400> = Path::new();
+    let mut out: Path<400> = Path::new();
+    for (encoding, want) in [
+        (EncodingKind::Corridor, None),
+        (EncodingKind::Column, None),
+        (EncodingKind::Walk, Some(PlanError::CapacityExceeded)),
+    ] {
+        let mut ws = Workspace {
+            nodes: &mut nodes,
+            open: &mut open,
+            guide: &mut guide,
+            visited: &mut [],
+            stations: &mut [Station::EMPTY; 64],
+        };
+        let p = PlanParams {
+            encoding,
+            iterations: 20,
+            ..PlanParams::new(AlgorithmKind::Igwo)
+        };
+        let r = plan(
+            lab.grid.view(),
+            lab.start,
+            lab.goal,
+            &p,
+            &mut ws,
+            &mut *Box::new(AnyOptimizer::<30, 64>::unconfigured()),
+            &mut out,
+            &mut [],
+            &mut || false,
+        );
+        match want {
+            Some(e) => assert_eq!(r.unwrap_err(), e, "{encoding:?}"),
+            // The column encoding may end infeasible (BudgetExhausted); never a capacity error.
+            None => assert_ne!(r.err(), Some(PlanError::CapacityExceeded), "{encoding:?}"),
+        }
+    }
 }

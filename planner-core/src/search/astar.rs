@@ -1,27 +1,155 @@
 //! A* on the 8-connected grid: octile costs (1 and sqrt 2), no corner cutting, octile
 //! heuristic (consistent, so the first time the goal is taken off the open list its cost is
 //! optimal). Ties on `f` prefer the larger `g`, which expands fewer cells on open floors.
+//!
+//! # Storage
+//!
+//! Two caller-owned slices, sized by the caller (heapless style):
+//!
+//! - `nodes`: one [`AStarNode`] (4 bytes) per map cell: new, closed with the direction it was
+//!   reached from (3 bits), or open at a position of the heap;
+//! - `open`: the open list, an indexed binary min-heap of [`OpenSlot`]s (12 bytes: `f`, `g`
+//!   and the cell with its direction). It holds each open cell once (decrease-key), so it
+//!   never needs more than [`open_capacity`]`(cells)` slots; a smaller buffer is allowed and
+//!   a search that outgrows it returns [`PlanError::CapacityExceeded`].
+//!
+//! Why this layout (issue 8, firmware RAM): the open list of a grid search is its frontier,
+//! a small fraction of the map. Largest open lists measured with [`SearchStats::open_peak`]
+//! over every row of the Moving AI scenarios in `tests/data/movingai`
+//! (`cargo run --release -p planner-core --example open_peak`): 1920 on
+//! `warehouse-20-40-10-2-2` (340x164, 55760 cells; mean 311), 523 on
+//! `warehouse-10-20-10-2-2` (170x84), 123 on `random-32-32-10`, 46 on `maze-32-32-2`; on the
+//! firmware's seed-000 warehouses, from the start to any free cell, 68 (40x40) and 110
+//! (64x64). So a per-cell record that holds only what closed cells need (the parent
+//! *direction*, not the parent index nor `g`: an open cell's `g` is in its heap slot) and a
+//! heap sized by the caller cut a 64x64 map from 96 KiB (24 bytes a cell) to 16 KiB plus
+//! 12 bytes per open slot (6 KiB for 512).
+//!
+//! The alternative, one byte a cell and a lazy-deletion heap, would save 12 KiB more at
+//! 64x64 but pushes a slot for every relaxation (several per open cell) and pops the stale
+//! ones, so its heap is larger and the host search slower, and a full buffer needs a
+//! compaction pass; the decrease-key heap holds each open cell once and keeps the heap
+//! operations, hence the expansion order and the paths, of the earlier 24-byte search bit
+//! for bit (ties on `(f, g)` are broken by the heap's deterministic operation sequence).
+//!
+//! Theta* keeps [`SearchNode`](super::SearchNode): its parents are arbitrary cells, not
+//! neighbours, and it reads the `g` of closed cells.
+//!
+//! ```
+//! use planner_core::{geometry::Cell, grid::{words_for, Grid}, path::Path};
+//! use planner_core::search::astar::{self, AStarNode, OpenSlot};
+//!
+//! let grid: Grid<{ words_for(8, 3) }> = Grid::parse_rows(b"........\n.@@@@@@.\n........\n")?;
+//! let mut nodes = [AStarNode::EMPTY; 24];
+//! // Always enough: one slot per cell.
+//! let mut open = [OpenSlot::EMPTY; astar::open_capacity(24)];
+//! let mut path: Path<32> = Path::new();
+//! let stats = astar::plan(grid.view(), Cell::new(0, 1), Cell::new(7, 1), &mut nodes, &mut open, &mut path)?;
+//! assert_eq!(stats.length, 9.0); // over the wall's end: no corner cutting
+//! assert!(stats.open_peak as usize <= open.len());
+//! // A smaller open list is the caller's choice; outgrowing it is an error, not a panic.
+//! let mut tiny = [OpenSlot::EMPTY; 1];
+//! assert_eq!(
+//!     astar::plan(grid.view(), Cell::new(0, 1), Cell::new(7, 1), &mut nodes, &mut tiny, &mut path),
+//!     Err(planner_core::PlanError::CapacityExceeded)
+//! );
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
 
-use super::{SearchNode, SearchStats, best_first, octile_xy};
+use super::{MOVES, SearchStats, allowed_moves, check_endpoints, connectivity, octile_xy};
 use crate::error::PlanError;
 use crate::geometry::Cell;
 use crate::grid::GridRef;
 use crate::path::PathView;
 
+/// Per-cell A* state (4 bytes): keep one per map cell. Planners leave every node as they
+/// found it, so storage is never cleared in O(cells) between calls.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct AStarNode(u32);
+
+// `AStarNode` states. Zero is "new", so that a `static` node array is all-zero bytes and
+// lands in `.bss`. A closed cell keeps the index into `MOVES` of the move that reached it in
+// the top three bits (its parent is one step back); an open cell keeps its heap position
+// (plus `OPEN_BASE`) and its direction travels in its heap slot instead, so that moving a
+// slot rewrites the state without masking.
+const NEW: u32 = 0;
+const CLOSED: u32 = 1;
+const OPEN_BASE: u32 = 2;
+const DIR_SHIFT: u32 = 29;
+const STATE_MASK: u32 = (1 << DIR_SHIFT) - 1;
+/// Most cells a map may have: the heap slot stores `cell << 3 | direction` in 32 bits.
+pub const MAX_CELLS: usize = 1 << DIR_SHIFT;
+
+impl AStarNode {
+    /// An unused node (for array initialisers).
+    pub const EMPTY: AStarNode = AStarNode(NEW);
+}
+
+impl Default for AStarNode {
+    fn default() -> Self {
+        Self::EMPTY
+    }
+}
+
+/// One slot of the A* open list (12 bytes).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct OpenSlot {
+    /// `f` bits: costs are never negative nor NaN, and such `f32`s order like their bits.
+    f: u32,
+    /// `!g` bits, so that `(f, !g)` as one `u64` orders "least `f`, ties to the largest `g`".
+    not_g: u32,
+    /// `cell << 3 | direction`.
+    cell_dir: u32,
+}
+
+impl OpenSlot {
+    /// An unused slot (for array initialisers).
+    pub const EMPTY: OpenSlot = OpenSlot {
+        f: 0,
+        not_g: 0,
+        cell_dir: 0,
+    };
+
+    #[inline]
+    fn key(&self) -> u64 {
+        (self.f as u64) << 32 | self.not_g as u64
+    }
+
+    #[inline]
+    fn g(&self) -> f32 {
+        f32::from_bits(!self.not_g)
+    }
+}
+
+impl Default for OpenSlot {
+    fn default() -> Self {
+        Self::EMPTY
+    }
+}
+
+/// Open-list slots that can never overflow on a map of `cells` cells (each cell is open at
+/// most once at a time). Hosts size a `Vec` with it; firmware may choose fewer from the
+/// [`SearchStats::open_peak`] of its maps and handle [`PlanError::CapacityExceeded`].
+pub const fn open_capacity(cells: usize) -> usize {
+    cells
+}
+
 /// Plans the shortest 8-connected path from `start` to `goal`, writing every cell centre
 /// along it into `out` (start first).
 ///
-/// `nodes` needs one entry per map cell. Errors: the endpoint checks of
-/// [`check_endpoints`], [`PlanError::CapacityExceeded`] when `nodes`
-/// or `out` is too small, [`PlanError::NoValidPath`] when the goal is unreachable.
+/// `nodes` needs one entry per map cell; `open` any number of slots (see the module docs and
+/// [`open_capacity`]). Errors: the endpoint checks of [`check_endpoints`],
+/// [`PlanError::CapacityExceeded`] when `nodes`, `open` or `out` is too small (or the map has
+/// more than [`MAX_CELLS`] cells), [`PlanError::NoValidPath`] when the goal is unreachable.
 pub fn plan(
     grid: GridRef<'_>,
     start: Cell,
     goal: Cell,
-    nodes: &mut [SearchNode],
+    nodes: &mut [AStarNode],
+    open: &mut [OpenSlot],
     out: &mut PathView,
 ) -> Result<SearchStats, PlanError> {
-    plan_with_labels(grid, start, goal, None, nodes, out)
+    plan_with_labels(grid, start, goal, None, nodes, open, out)
 }
 
 /// Like [`plan`], but first consults precomputed component labels (see
@@ -31,21 +159,266 @@ pub fn plan_with_labels(
     start: Cell,
     goal: Cell,
     labels: Option<&[u32]>,
-    nodes: &mut [SearchNode],
+    nodes: &mut [AStarNode],
+    open: &mut [OpenSlot],
     out: &mut PathView,
 ) -> Result<SearchStats, PlanError> {
-    best_first(
-        grid,
-        start,
-        goal,
-        labels,
-        nodes,
-        out,
-        octile_xy,
-        |open, s| {
-            open.relax(s.j, open.g(s.i) + s.cost, s.h, s.i);
-        },
-    )
+    check_endpoints(grid, start, goal)?;
+    if nodes.len() < grid.cells() || grid.cells() > MAX_CELLS {
+        return Err(PlanError::CapacityExceeded);
+    }
+    if let Some(labels) = labels
+        && !connectivity::connected(grid, labels, start, goal)?
+    {
+        return Err(PlanError::NoValidPath);
+    }
+    let (Some(s), Some(t)) = (grid.index(start), grid.index(goal)) else {
+        return Err(PlanError::StartOutsideMap);
+    };
+    let width = grid.width() as isize;
+    let (gx, gy) = (goal.x as isize, goal.y as isize);
+    let (sx, sy) = (start.x as isize, start.y as isize);
+    let mut heap = Heap::new(&mut nodes[..grid.cells()], open, grid.width());
+    heap.relax(s, sx, sy, 0.0, octile_xy(sx, sy, gx, gy), 0)?;
+    let mut expanded = 0u32;
+    while let Some((i, g)) = heap.pop() {
+        expanded += 1;
+        if i == t {
+            heap.write_path(grid, s, t, out)?;
+            return Ok(SearchStats {
+                length: g,
+                expanded,
+                open_peak: heap.peak as u32,
+            });
+        }
+        let (x, y) = ((i as isize) % width, (i as isize) / width);
+        let mut moves = allowed_moves(grid, x, y);
+        while moves != 0 {
+            let k = moves.trailing_zeros();
+            let (dx, dy, cost) = MOVES[k as usize];
+            moves &= moves - 1;
+            let (nx, ny) = (x + dx as isize, y + dy as isize);
+            let j = (ny * width + nx) as usize;
+            heap.relax_with(j, nx, ny, g + cost, k, |nx, ny| octile_xy(nx, ny, gx, gy))?;
+        }
+    }
+    Err(PlanError::NoValidPath)
+}
+
+/// The open list over `open` and the cell states in `nodes`.
+///
+/// Every node is `NEW` when the heap is created and again when it is dropped: every cell it
+/// touched lies in the bounding box of the cells it opened, and dropping clears that box row
+/// by row (O(touched region), a few word stores per row) instead of all cells.
+struct Heap<'n> {
+    nodes: &'n mut [AStarNode],
+    open: &'n mut [OpenSlot],
+    width: usize,
+    len: usize,
+    peak: usize,
+    /// Bounding box of the opened cells, `x0 > x1` while empty.
+    x0: usize,
+    x1: usize,
+    y0: usize,
+    y1: usize,
+}
+
+impl<'n> Heap<'n> {
+    fn new(nodes: &'n mut [AStarNode], open: &'n mut [OpenSlot], width: usize) -> Self {
+        debug_assert!(nodes.iter().all(|n| n.0 == NEW));
+        // Open states store `position + OPEN_BASE` below the direction bits.
+        let cap = open.len().min((STATE_MASK - OPEN_BASE) as usize);
+        Heap {
+            nodes,
+            open: &mut open[..cap],
+            width,
+            len: 0,
+            peak: 0,
+            x0: usize::MAX,
+            x1: 0,
+            y0: usize::MAX,
+            y1: 0,
+        }
+    }
+
+    #[inline]
+    fn relax(
+        &mut self,
+        i: usize,
+        x: isize,
+        y: isize,
+        g: f32,
+        h: f32,
+        dir: u32,
+    ) -> Result<(), PlanError> {
+        self.relax_with(i, x, y, g, dir, |_, _| h)
+    }
+
+    /// Opens cell `i` at `(x, y)`, reached by move `dir` at cost `g`, or lowers its cost;
+    /// ignores closed cells and worse costs. The heuristic is computed only for a change.
+    #[inline]
+    fn relax_with(
+        &mut self,
+        i: usize,
+        x: isize,
+        y: isize,
+        g: f32,
+        dir: u32,
+        h: impl FnOnce(isize, isize) -> f32,
+    ) -> Result<(), PlanError> {
+        let state = self.nodes[i].0;
+        let pos = if state == NEW {
+            if self.len == self.open.len() {
+                return Err(PlanError::CapacityExceeded);
+            }
+            self.len += 1;
+            self.peak = self.peak.max(self.len);
+            let (ux, uy) = (x as usize, y as usize);
+            self.x0 = self.x0.min(ux);
+            self.x1 = self.x1.max(ux);
+            self.y0 = self.y0.min(uy);
+            self.y1 = self.y1.max(uy);
+            self.len - 1
+        } else if state & STATE_MASK == CLOSED {
+            return Ok(());
+        } else {
+            let pos = (state - OPEN_BASE) as usize;
+            if g >= self.open[pos].g() {
+                return Ok(());
+            }
+            pos
+        };
+        debug_assert!(g >= 0.0);
+        let slot = OpenSlot {
+            f: (g + h(x, y)).to_bits(),
+            not_g: !g.to_bits(),
+            cell_dir: (i as u32) << 3 | dir,
+        };
+        self.sift_up(pos, slot);
+        Ok(())
+    }
+
+    /// Takes the open cell of least `f` (ties: largest `g`), closes it and returns it with
+    /// its `g`.
+    fn pop(&mut self) -> Option<(usize, f32)> {
+        if self.len == 0 {
+            return None;
+        }
+        let top = self.open[0];
+        self.len -= 1;
+        if self.len > 0 {
+            let last = self.open[self.len];
+            self.sift_down(0, last);
+        }
+        let cell = (top.cell_dir >> 3) as usize;
+        self.nodes[cell].0 = CLOSED | (top.cell_dir & 7) << DIR_SHIFT;
+        Some((cell, top.g()))
+    }
+
+    #[inline]
+    fn place(&mut self, pos: usize, slot: OpenSlot) {
+        self.open[pos] = slot;
+        self.nodes[(slot.cell_dir >> 3) as usize].0 = pos as u32 + OPEN_BASE;
+    }
+
+    /// Moves `slot`, to be stored at `pos`, up to its place.
+    fn sift_up(&mut self, mut pos: usize, slot: OpenSlot) {
+        let key = slot.key();
+        while pos > 0 {
+            let parent_pos = (pos - 1) / 2;
+            let parent = self.open[parent_pos];
+            if key >= parent.key() {
+                break;
+            }
+            self.place(pos, parent);
+            pos = parent_pos;
+        }
+        self.place(pos, slot);
+    }
+
+    /// Moves `slot`, to be stored at `pos`, down to its place.
+    ///
+    /// Floyd's variant: the hole first runs down the path of least children to the bottom
+    /// (one comparison per level, not two), then `slot` climbs back while its parent is not
+    /// less than it. Along that path the keys never decrease, so `slot` ends exactly where
+    /// the textbook sift-down puts it, and the heap, hence the order of expansion, is the
+    /// same.
+    fn sift_down(&mut self, mut pos: usize, slot: OpenSlot) {
+        let start = pos;
+        let key = slot.key();
+        loop {
+            let left = 2 * pos + 1;
+            if left >= self.len {
+                break;
+            }
+            // Which child is less is a coin toss for the branch predictor: select it by
+            // arithmetic on the index, not by a branch.
+            let right = left + 1;
+            let take_right = right < self.len && self.open[right].key() < self.open[left].key();
+            let child = left + take_right as usize;
+            let child_slot = self.open[child];
+            self.place(pos, child_slot);
+            pos = child;
+        }
+        while pos > start {
+            let parent_pos = (pos - 1) / 2;
+            let parent = self.open[parent_pos];
+            if parent.key() < key {
+                break;
+            }
+            self.place(pos, parent);
+            pos = parent_pos;
+        }
+        self.place(pos, slot);
+    }
+
+    /// Writes the path from `start` to `goal` (closed) into `out`, start first, by walking
+    /// the stored directions back from `goal`.
+    fn write_path(
+        &self,
+        grid: GridRef<'_>,
+        start: usize,
+        goal: usize,
+        out: &mut PathView,
+    ) -> Result<(), PlanError> {
+        out.clear();
+        let width = self.width as isize;
+        let mut i = goal;
+        loop {
+            out.push(grid.cell(i).center())
+                .map_err(|_| PlanError::CapacityExceeded)?;
+            if i == start {
+                break;
+            }
+            // A chain longer than the map would be a cycle: treat as corruption.
+            if out.len() > grid.cells() {
+                return Err(PlanError::NoValidPath);
+            }
+            let (dx, dy, _) = MOVES[(self.nodes[i].0 >> DIR_SHIFT) as usize];
+            let back = i as isize - (dy as isize * width + dx as isize);
+            i = match usize::try_from(back) {
+                Ok(p) if p < self.nodes.len() => p,
+                _ => return Err(PlanError::NoValidPath),
+            };
+        }
+        out.reverse();
+        Ok(())
+    }
+}
+
+impl Drop for Heap<'_> {
+    /// Resets every touched node to `NEW` (runs on every exit of the planner).
+    fn drop(&mut self) {
+        if self.x0 > self.x1 {
+            return;
+        }
+        for y in self.y0..=self.y1 {
+            let row = y * self.width;
+            if let Some(cells) = self.nodes.get_mut(row + self.x0..=row + self.x1) {
+                cells.fill(AStarNode::EMPTY);
+            }
+        }
+    }
 }
 
 #[cfg(test)]
@@ -62,13 +435,15 @@ mod tests {
         t: (u16, u16),
     ) -> Result<(SearchStats, Path<256>), PlanError> {
         let g = G::parse_rows(rows).unwrap();
-        let mut nodes = [SearchNode::EMPTY; 256];
+        let mut nodes = [AStarNode::EMPTY; 256];
+        let mut open = [OpenSlot::EMPTY; 256];
         let mut out = Path::new();
         plan(
             g.view(),
             Cell::new(s.0, s.1),
             Cell::new(t.0, t.1),
             &mut nodes,
+            &mut open,
             &mut out,
         )
         .map(|st| (st, out))
@@ -117,7 +492,8 @@ mod tests {
             PlanError::NoValidPath
         );
         let g = G::parse_rows(open).unwrap();
-        let mut small = [SearchNode::EMPTY; 4];
+        let mut small = [AStarNode::EMPTY; 4];
+        let mut open = [OpenSlot::EMPTY; 9];
         let mut out: Path<16> = Path::new();
         assert_eq!(
             plan(
@@ -125,11 +501,12 @@ mod tests {
                 Cell::new(0, 0),
                 Cell::new(2, 2),
                 &mut small,
+                &mut open,
                 &mut out
             ),
             Err(PlanError::CapacityExceeded)
         );
-        let mut nodes = [SearchNode::EMPTY; 9];
+        let mut nodes = [AStarNode::EMPTY; 9];
         let mut tiny: Path<2> = Path::new();
         assert_eq!(
             plan(
@@ -137,6 +514,7 @@ mod tests {
                 Cell::new(0, 0),
                 Cell::new(2, 2),
                 &mut nodes,
+                &mut open,
                 &mut tiny
             ),
             Err(PlanError::CapacityExceeded)
@@ -147,11 +525,40 @@ mod tests {
     fn path_is_valid_and_hugs_no_corner() {
         let rows = b"......\n.@@@@.\n.@....\n.@.@@@\n...@..\n";
         let g = G::parse_rows(rows).unwrap();
-        let mut nodes = [SearchNode::EMPTY; 256];
+        let mut nodes = [AStarNode::EMPTY; 256];
+        let mut open = [OpenSlot::EMPTY; 256];
         let mut out: Path<64> = Path::new();
         let (s, t) = (Cell::new(2, 2), Cell::new(0, 4));
-        let st = plan(g.view(), s, t, &mut nodes, &mut out).unwrap();
+        let st = plan(g.view(), s, t, &mut nodes, &mut open, &mut out).unwrap();
         assert_eq!(validate(g.view(), &out, s, t), Ok(()));
         assert!((length(&out) - st.length).abs() < 1e-5);
+    }
+
+    /// A caller-chosen open list that is too small is an error, leaves the nodes reset,
+    /// and the exact capacity found by `open_peak` suffices.
+    #[test]
+    fn small_open_list_is_an_error_and_peak_suffices() {
+        let rows = b"..........\n.@@@@@@@@.\n..........\n.@@@@@@@@.\n..........\n";
+        let g = G::parse_rows(rows).unwrap();
+        let (s, t) = (Cell::new(0, 2), Cell::new(9, 2));
+        let mut nodes = [AStarNode::EMPTY; 256];
+        let mut open = [OpenSlot::EMPTY; 256];
+        let mut out: Path<64> = Path::new();
+        let full = plan(g.view(), s, t, &mut nodes, &mut open, &mut out).unwrap();
+        let peak = full.open_peak as usize;
+        assert!(peak > 2);
+        assert_eq!(
+            plan(g.view(), s, t, &mut nodes, &mut open[..peak - 1], &mut out),
+            Err(PlanError::CapacityExceeded)
+        );
+        assert!(nodes.iter().all(|n| *n == AStarNode::EMPTY));
+        assert_eq!(
+            plan(g.view(), s, t, &mut nodes, &mut open[..peak], &mut out),
+            Ok(full)
+        );
+        assert_eq!(
+            plan(g.view(), s, t, &mut nodes, &mut [], &mut out),
+            Err(PlanError::CapacityExceeded)
+        );
     }
 }

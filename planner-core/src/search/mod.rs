@@ -7,17 +7,21 @@
 //! - `visibility` (feature `alloc`, host only): the reduced visibility graph of the obstacle
 //!   corners, for shortest any-angle routes and lower bounds.
 //!
-//! The search state lives in a caller-owned slice of [`SearchNode`] with one entry per map
-//! cell (a `static` array in firmware, a `Vec` on a host), so no planner allocates and the
-//! same code serves every map size.
+//! The search state lives in caller-owned slices with one entry per map cell (a `static`
+//! array in firmware, a `Vec` on a host), so no planner allocates and the same code serves
+//! every map size: A* takes 4-byte [`astar::AStarNode`]s plus an open list of
+//! [`astar::OpenSlot`]s whose length the caller chooses (see [`astar`]); Theta* takes
+//! 24-byte [`SearchNode`]s.
 //!
 //! ```
 //! use planner_core::{geometry::Cell, grid::{words_for, Grid}, path::Path, search};
+//! use search::astar::{AStarNode, OpenSlot};
 //!
 //! let grid: Grid<{ words_for(4, 3) }> = Grid::parse_rows(b"....\n.@@.\n....\n")?;
-//! let mut nodes = [search::SearchNode::EMPTY; 12];
+//! let mut nodes = [AStarNode::EMPTY; 12];
+//! let mut open = [OpenSlot::EMPTY; search::astar::open_capacity(12)];
 //! let mut path: Path<16> = Path::new();
-//! let stats = search::astar::plan(grid.view(), Cell::new(0, 1), Cell::new(3, 1), &mut nodes, &mut path)?;
+//! let stats = search::astar::plan(grid.view(), Cell::new(0, 1), Cell::new(3, 1), &mut nodes, &mut open, &mut path)?;
 //! // Around the wall: no diagonal may cut the corners of (1,1) and (2,1).
 //! assert_eq!(path.len(), 6);
 //! assert_eq!(stats.length, 5.0);
@@ -35,7 +39,7 @@ use crate::geometry::{Cell, Point};
 use crate::grid::GridRef;
 use crate::path::PathView;
 
-/// Per-cell search state (24 bytes). Keep one per map cell. Planners leave every node as
+/// Per-cell Theta* state (24 bytes). Keep one per map cell. Planners leave every node as
 /// they found it (reset), so storage is never cleared in O(cells) between calls.
 #[derive(Clone, Copy, Debug)]
 pub struct SearchNode {
@@ -103,6 +107,10 @@ pub struct SearchStats {
     pub length: f32,
     /// Cells taken off the open list.
     pub expanded: u32,
+    /// Largest number of cells open at once: an A* open list of this many slots suffices
+    /// for the same query (see [`astar::open_capacity`]).
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub open_peak: u32,
 }
 
 /// The eight moves with their costs; diagonals need both side cells free.
@@ -194,6 +202,7 @@ pub(crate) struct Open<'n> {
     nodes: &'n mut [SearchNode],
     len: usize,
     closed: usize,
+    peak: usize,
 }
 
 /// A heap entry: the cell and its key, `(f, g)` packed into one integer so that the heap
@@ -238,6 +247,7 @@ impl<'n> Open<'n> {
             nodes,
             len: 0,
             closed: 0,
+            peak: 0,
         }
     }
 
@@ -262,6 +272,7 @@ impl<'n> Open<'n> {
             CLOSED => return,
             NEW => {
                 self.len += 1;
+                self.peak = self.peak.max(self.len);
                 self.len - 1
             }
             _ if g >= node.g => return,
@@ -412,10 +423,11 @@ pub(crate) struct Step {
     pub h: f32,
 }
 
-/// The best-first loop A* and Theta* share: endpoint checks, storage and reachability
-/// checks, the open list, the allowed 8-connected moves, and the path at the end. They differ
-/// only in their heuristic and in how a neighbour is relaxed (`relax`, called for every
-/// allowed move to a cell that is not closed yet).
+/// A best-first loop over [`SearchNode`]s: endpoint checks, storage and reachability checks,
+/// the open list, the allowed 8-connected moves, and the path at the end; the planner gives
+/// the heuristic and how a neighbour is relaxed (`relax`, called for every allowed move to a
+/// cell that is not closed yet). Theta* runs on it; A* has its own loop over compact storage
+/// (see [`astar`]), since its parents are neighbours and it never reads a closed cell's `g`.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn best_first(
     grid: GridRef<'_>,
@@ -454,7 +466,11 @@ pub(crate) fn best_first(
         if i == t {
             let length = open.g(t);
             open.write_path(grid, s, t, out)?;
-            return Ok(SearchStats { length, expanded });
+            return Ok(SearchStats {
+                length,
+                expanded,
+                open_peak: open.peak as u32,
+            });
         }
         let (x, y) = ((i as isize) % width, (i as isize) / width);
         let mut moves = allowed_moves(grid, x, y);

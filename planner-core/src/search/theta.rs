@@ -96,7 +96,9 @@ mod tests {
         assert_eq!(validate(g.view(), &out, s, t), Ok(()));
         assert!((length(&out) - st.length).abs() < 1e-4);
         let mut grid_path: Path<64> = Path::new();
-        let a = astar::plan(g.view(), s, t, &mut nodes, &mut grid_path).unwrap();
+        let mut astar_nodes = [astar::AStarNode::EMPTY; 256];
+        let mut open = [astar::OpenSlot::EMPTY; 256];
+        let a = astar::plan(g.view(), s, t, &mut astar_nodes, &mut open, &mut grid_path).unwrap();
         assert!(st.length <= a.length + 1e-4);
         assert!(st.length < a.length); // any-angle is strictly shorter here
     }

@@ -444,6 +444,7 @@ mod tests {
     use super::*;
     use crate::grid::{Grid, words_for};
     use crate::path::Path;
+    use crate::search::astar::{AStarNode, OpenSlot};
     use crate::search::{SearchNode, astar, theta};
     use alloc::boxed::Box;
 
@@ -671,6 +672,8 @@ mod tests {
     fn never_above_theta_star_or_the_octile_optimum() {
         let mut rng = Rng(777);
         let mut nodes = vec![SearchNode::EMPTY; 256];
+        let mut astar_nodes = vec![AStarNode::EMPTY; 256];
+        let mut open = vec![OpenSlot::EMPTY; 256];
         let mut out: Box<Path<256>> = Box::new(Path::new());
         let mut strict = 0;
         let mut checked = 0;
@@ -684,7 +687,8 @@ mod tests {
                 let Ok(th) = theta::plan(g.view(), s, t, &mut nodes, &mut *out) else {
                     continue;
                 };
-                let a = astar::plan(g.view(), s, t, &mut nodes, &mut *out).unwrap();
+                let a =
+                    astar::plan(g.view(), s, t, &mut astar_nodes, &mut open, &mut *out).unwrap();
                 let bound = vg.shortest(g.view(), s, t).expect("a valid path exists");
                 assert!(bound <= th.length as f64 + 1e-4, "{bound} > {}", th.length);
                 assert!(bound <= a.length as f64 + 1e-4);

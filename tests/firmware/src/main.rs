@@ -14,15 +14,14 @@ use cortex_m::peripheral::syst::SystClkSource;
 use cortex_m_rt::{entry, exception};
 use cortex_m_semihosting::{debug, hprintln};
 use panic_semihosting as _;
-use planner_core::search::SearchNode;
 
 mod scenario;
 use scenario::{CASES, Nodes, Outcome, Storage};
 
 /// All planner state lives in statics (the linker checks them against the RAM budget).
-/// The A* nodes are all-zero: `.bss`.
-static mut NODES: Nodes = [SearchNode::EMPTY; scenario::CELLS];
-/// Map, paths, stations and optimizers.
+/// The A* nodes and open list are all-zero: `.bss`.
+static mut NODES: Nodes = Nodes::new();
+/// Map, paths, stations and the optimizer.
 static mut STORAGE: Storage = Storage::new();
 
 /// SysTick wraps (the counter is 24 bits).

@@ -21,7 +21,7 @@ use planner_core::optim::gwo::Gwo;
 use planner_core::optim::hho::Hho;
 use planner_core::path::{self, Path};
 use planner_core::planner::{PlanParams, Workspace, plan};
-use planner_core::search::{SearchNode, astar};
+use planner_core::search::astar::{self, AStarNode, OpenSlot};
 use planner_core::{PlanError, Point};
 
 /// Map capacity: side length.
@@ -36,12 +36,39 @@ pub const POP: usize = 30;
 pub const DIM: usize = 64;
 /// Waypoint capacity of the guide route and of the result.
 pub const PATH_CAP: usize = 256;
+/// A* open-list slots. The largest open list of A* on these maps is 68 (40x40) and 110
+/// (64x64) from the start to any free cell (`cargo run -p planner-core --example open_peak`;
+/// 1920 on Moving AI's 340x164 warehouse, 123 on its 32x32 random map): 512 leaves room for
+/// other 64x64 maps, and a search that outgrows it fails with `CapacityExceeded`.
+pub const OPEN: usize = 512;
 /// The seed of every stochastic plan.
 pub const SEED: u64 = 0x5EED_0008;
 
-/// A* search nodes, one per cell of the capacity: all-zero bytes, so a `static` of them is
-/// in `.bss` (kept apart from [`Storage`], whose non-zero parts put it in `.data`).
-pub type Nodes = [SearchNode; CELLS];
+/// A* search state: a node per cell of the capacity (4 bytes) and [`OPEN`] open-list slots
+/// (12 bytes). All-zero bytes, so a `static` of it is in `.bss` (kept apart from
+/// [`Storage`], whose non-zero parts put it in `.data`).
+pub struct Nodes {
+    /// One per cell.
+    pub nodes: [AStarNode; CELLS],
+    /// The open list.
+    pub open: [OpenSlot; OPEN],
+}
+
+impl Nodes {
+    /// Fresh search state.
+    pub const fn new() -> Self {
+        Nodes {
+            nodes: [AStarNode::EMPTY; CELLS],
+            open: [OpenSlot::EMPTY; OPEN],
+        }
+    }
+}
+
+impl Default for Nodes {
+    fn default() -> Self {
+        Self::new()
+    }
+}
 
 /// The rest of the planner state, sized for the capacity above. `const fn new` so that it can
 /// be a `static` (built at link time, no large temporary on the stack).
@@ -225,7 +252,15 @@ pub fn run_case(s: &mut Storage, nodes: &mut Nodes, index: usize) -> Outcome {
     let mut h = Fnv::new();
     h.u32(index as u32);
     let result = match case.planner {
-        Planner::AStar => astar::plan(grid, start, goal, nodes, &mut s.out).map(|st| {
+        Planner::AStar => astar::plan(
+            grid,
+            start,
+            goal,
+            &mut nodes.nodes,
+            &mut nodes.open,
+            &mut s.out,
+        )
+        .map(|st| {
             o.iterations = st.expanded;
             (
                 st.length,
@@ -241,7 +276,8 @@ pub fn run_case(s: &mut Storage, nodes: &mut Nodes, index: usize) -> Outcome {
                 ..PlanParams::new(kind)
             };
             let mut ws = Workspace {
-                nodes,
+                nodes: &mut nodes.nodes,
+                open: &mut nodes.open,
                 guide: &mut s.guide,
                 visited: &mut s.visited,
                 stations: &mut s.stations,
@@ -344,7 +380,16 @@ pub fn dwa_control_loop(s: &mut Storage, nodes: &mut Nodes) -> Option<Outcome> {
     let mut h = Fnv::new();
     h.u32(0xD3A);
     let grid = s.grid.view();
-    astar::plan(grid, s.start, s.goal, nodes, &mut s.out).ok()?;
+    let (start, goal) = (s.start, s.goal);
+    astar::plan(
+        grid,
+        start,
+        goal,
+        &mut nodes.nodes,
+        &mut nodes.open,
+        &mut s.out,
+    )
+    .ok()?;
     // The route: the A* path cut at DWA_ROUTE cells (a point on a clear segment).
     let mut route: Path<PATH_CAP> = Path::new();
     let mut walked = 0.0f32;
