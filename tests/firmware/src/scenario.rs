@@ -19,8 +19,9 @@ use planner_core::maps::{MapKind, seed000};
 use planner_core::optim::any::AlgorithmKind;
 use planner_core::optim::gwo::Gwo;
 use planner_core::optim::hho::Hho;
+use planner_core::optim::{Bounds, Objective, OptimError, Optimizer, Settings};
 use planner_core::path::{self, Path};
-use planner_core::planner::{PlanParams, Workspace, plan};
+use planner_core::planner::{PlanOptimizer, PlanParams, Workspace, plan};
 use planner_core::search::astar::{self, AStarNode, OpenSlot};
 use planner_core::{PlanError, Point};
 
@@ -41,6 +42,9 @@ pub const PATH_CAP: usize = 256;
 /// 1920 on Moving AI's 340x164 warehouse, 123 on its 32x32 random map): 512 leaves room for
 /// other 64x64 maps, and a search that outgrows it fails with `CapacityExceeded`.
 pub const OPEN: usize = 512;
+/// Waypoint capacity of the DWA loop's route (the first [`DWA_ROUTE`] cells of a plan: at
+/// most one point per cell plus the cut point).
+pub const DWA_ROUTE_CAP: usize = 16;
 /// The seed of every stochastic plan.
 pub const SEED: u64 = 0x5EED_0008;
 
@@ -70,6 +74,78 @@ impl Default for Nodes {
     }
 }
 
+/// The one optimizer state of the scenario: TCLHHO and IGWO never run at the same time, so
+/// they share the storage of the larger (`AnyOptimizer` would hold PSO's three times larger
+/// state). Switching family replaces the variant in place.
+#[allow(clippy::large_enum_variant)]
+pub enum Swarm {
+    /// HHO or TCLHHO.
+    Hho(Hho<POP, DIM>),
+    /// GWO, TGWO or IGWO.
+    Gwo(Gwo<POP, DIM>),
+}
+
+macro_rules! swarm {
+    ($self:ident, $o:ident => $e:expr) => {
+        match $self {
+            Swarm::Hho($o) => $e,
+            Swarm::Gwo($o) => $e,
+        }
+    };
+}
+
+impl Optimizer for Swarm {
+    fn init<O: Objective + ?Sized>(
+        &mut self,
+        objective: &mut O,
+        initial: Option<&[&[f32]]>,
+    ) -> Result<(), OptimError> {
+        swarm!(self, o => o.init(objective, initial))
+    }
+    fn step<O: Objective + ?Sized>(&mut self, objective: &mut O) -> Result<(), OptimError> {
+        swarm!(self, o => o.step(objective))
+    }
+    fn best_position(&self) -> &[f32] {
+        swarm!(self, o => o.best_position())
+    }
+    fn best_cost(&self) -> f32 {
+        swarm!(self, o => o.best_cost())
+    }
+    fn iteration(&self) -> u32 {
+        swarm!(self, o => o.iteration())
+    }
+    fn evaluations(&self) -> u64 {
+        swarm!(self, o => o.evaluations())
+    }
+    fn best_iteration(&self) -> u32 {
+        swarm!(self, o => o.best_iteration())
+    }
+    fn horizon(&self) -> u32 {
+        swarm!(self, o => o.horizon())
+    }
+}
+
+impl PlanOptimizer<POP, DIM> for Swarm {
+    fn configure_kind(
+        &mut self,
+        kind: AlgorithmKind,
+        settings: Settings,
+        bounds: &Bounds<DIM>,
+    ) -> Result<(), OptimError> {
+        // Assigned from constants: the value is copied from flash into place, where
+        // `Swarm::Gwo(Gwo::unconfigured())` built a 9 KiB temporary on the stack first.
+        const HHO: Swarm = Swarm::Hho(Hho::unconfigured());
+        const GWO: Swarm = Swarm::Gwo(Gwo::unconfigured());
+        let hho = matches!(kind, AlgorithmKind::Hho | AlgorithmKind::Tclhho);
+        match self {
+            Swarm::Hho(_) if !hho => *self = GWO,
+            Swarm::Gwo(_) if hho => *self = HHO,
+            _ => {}
+        }
+        swarm!(self, o => o.configure_kind(kind, settings, bounds))
+    }
+}
+
 /// The rest of the planner state, sized for the capacity above. `const fn new` so that it can
 /// be a `static` (built at link time, no large temporary on the stack).
 pub struct Storage {
@@ -83,14 +159,10 @@ pub struct Storage {
     pub guide: Path<PATH_CAP>,
     /// The plan's result.
     pub out: Path<PATH_CAP>,
-    /// Walk-encoding bitset (unused by these plans, required by the workspace).
-    pub visited: [u32; CELLS / 32 + 1],
     /// Corridor stations.
     pub stations: [Station; DIM],
-    /// TCLHHO state.
-    pub hho: Hho<POP, DIM>,
-    /// IGWO state.
-    pub gwo: Gwo<POP, DIM>,
+    /// TCLHHO or IGWO state.
+    pub swarm: Swarm,
 }
 
 impl Storage {
@@ -105,10 +177,8 @@ impl Storage {
             goal: Cell::new(0, 0),
             guide: Path::new(),
             out: Path::new(),
-            visited: [0; CELLS / 32 + 1],
             stations: [Station::EMPTY; DIM],
-            hho: Hho::unconfigured(),
-            gwo: Gwo::unconfigured(),
+            swarm: Swarm::Hho(Hho::unconfigured()),
         }
     }
 }
@@ -275,39 +345,25 @@ pub fn run_case(s: &mut Storage, nodes: &mut Nodes, index: usize) -> Outcome {
                 seed: SEED,
                 ..PlanParams::new(kind)
             };
+            // The corridor encoding needs no walk bitset: `visited` stays empty.
             let mut ws = Workspace {
                 nodes: &mut nodes.nodes,
                 open: &mut nodes.open,
                 guide: &mut s.guide,
-                visited: &mut s.visited,
+                visited: &mut [],
                 stations: &mut s.stations,
             };
-            let out = &mut s.out;
-            let never = &mut || false;
-            let r = match kind {
-                AlgorithmKind::Hho | AlgorithmKind::Tclhho => plan(
-                    grid,
-                    start,
-                    goal,
-                    &params,
-                    &mut ws,
-                    &mut s.hho,
-                    out,
-                    &mut [],
-                    never,
-                ),
-                _ => plan(
-                    grid,
-                    start,
-                    goal,
-                    &params,
-                    &mut ws,
-                    &mut s.gwo,
-                    out,
-                    &mut [],
-                    never,
-                ),
-            };
+            let r = plan(
+                grid,
+                start,
+                goal,
+                &params,
+                &mut ws,
+                &mut s.swarm,
+                &mut s.out,
+                &mut [],
+                &mut || false,
+            );
             r.map(|r| {
                 o.evaluations = r.evaluations;
                 o.iterations = r.iterations;
@@ -391,7 +447,7 @@ pub fn dwa_control_loop(s: &mut Storage, nodes: &mut Nodes) -> Option<Outcome> {
     )
     .ok()?;
     // The route: the A* path cut at DWA_ROUTE cells (a point on a clear segment).
-    let mut route: Path<PATH_CAP> = Path::new();
+    let mut route: Path<DWA_ROUTE_CAP> = Path::new();
     let mut walked = 0.0f32;
     for (i, &p) in s.out.iter().enumerate() {
         if i > 0 {
