@@ -183,6 +183,8 @@ pub fn plan_with_labels(
     let mut expanded = 0u32;
     while let Some((i, g)) = heap.pop() {
         expanded += 1;
+        let (x, y) = ((i as isize) % width, (i as isize) / width);
+        heap.expanding(x as usize, y as usize);
         if i == t {
             heap.write_path(grid, s, t, out)?;
             return Ok(SearchStats {
@@ -191,7 +193,6 @@ pub fn plan_with_labels(
                 open_peak: heap.peak as u32,
             });
         }
-        let (x, y) = ((i as isize) % width, (i as isize) / width);
         let mut moves = allowed_moves(grid, x, y);
         while moves != 0 {
             let k = moves.trailing_zeros();
@@ -208,15 +209,17 @@ pub fn plan_with_labels(
 /// The open list over `open` and the cell states in `nodes`.
 ///
 /// Every node is `NEW` when the heap is created and again when it is dropped: every cell it
-/// touched lies in the bounding box of the cells it opened, and dropping clears that box row
-/// by row (O(touched region), a few word stores per row) instead of all cells.
+/// touched is the start or a neighbour of an expanded cell, so it lies in the bounding box
+/// of the expanded cells grown by one, and dropping clears that box row by row
+/// (O(touched region), a few word stores per row) instead of all cells. The box is kept per
+/// expansion, not per opened cell, which are several times more.
 struct Heap<'n> {
     nodes: &'n mut [AStarNode],
     open: &'n mut [OpenSlot],
     width: usize,
     len: usize,
     peak: usize,
-    /// Bounding box of the opened cells, `x0 > x1` while empty.
+    /// Bounding box of the expanded cells, `x0 > x1` while empty.
     x0: usize,
     x1: usize,
     y0: usize,
@@ -273,11 +276,6 @@ impl<'n> Heap<'n> {
             }
             self.len += 1;
             self.peak = self.peak.max(self.len);
-            let (ux, uy) = (x as usize, y as usize);
-            self.x0 = self.x0.min(ux);
-            self.x1 = self.x1.max(ux);
-            self.y0 = self.y0.min(uy);
-            self.y1 = self.y1.max(uy);
             self.len - 1
         } else if state & STATE_MASK == CLOSED {
             return Ok(());
@@ -296,6 +294,15 @@ impl<'n> Heap<'n> {
         };
         self.sift_up(pos, slot);
         Ok(())
+    }
+
+    /// Records that the cell at `(x, y)` is being expanded (see the type's docs).
+    #[inline]
+    fn expanding(&mut self, x: usize, y: usize) {
+        self.x0 = self.x0.min(x);
+        self.x1 = self.x1.max(x);
+        self.y0 = self.y0.min(y);
+        self.y1 = self.y1.max(y);
     }
 
     /// Takes the open cell of least `f` (ties: largest `g`), closes it and returns it with
@@ -410,11 +417,21 @@ impl Drop for Heap<'_> {
     /// Resets every touched node to `NEW` (runs on every exit of the planner).
     fn drop(&mut self) {
         if self.x0 > self.x1 {
+            // Nothing expanded: at most the start was opened.
+            if let Some(slot) = self.open.first().filter(|_| self.len > 0) {
+                let cell = (slot.cell_dir >> 3) as usize;
+                if let Some(node) = self.nodes.get_mut(cell) {
+                    *node = AStarNode::EMPTY;
+                }
+            }
             return;
         }
-        for y in self.y0..=self.y1 {
+        let height = self.nodes.len() / self.width.max(1);
+        let (x0, x1) = (self.x0.saturating_sub(1), (self.x1 + 1).min(self.width - 1));
+        let (y0, y1) = (self.y0.saturating_sub(1), (self.y1 + 1).min(height - 1));
+        for y in y0..=y1 {
             let row = y * self.width;
-            if let Some(cells) = self.nodes.get_mut(row + self.x0..=row + self.x1) {
+            if let Some(cells) = self.nodes.get_mut(row + x0..=row + x1) {
                 cells.fill(AStarNode::EMPTY);
             }
         }
@@ -560,5 +577,22 @@ mod tests {
             plan(g.view(), s, t, &mut nodes, &mut [], &mut out),
             Err(PlanError::CapacityExceeded)
         );
+        // Every exit leaves the nodes reset: found at once, path too long, unreachable.
+        let _ = plan(g.view(), s, s, &mut nodes, &mut open, &mut out);
+        assert!(nodes.iter().all(|n| *n == AStarNode::EMPTY));
+        let mut short: Path<2> = Path::new();
+        let _ = plan(g.view(), s, t, &mut nodes, &mut open, &mut short);
+        assert!(nodes.iter().all(|n| *n == AStarNode::EMPTY));
+        let walled = G::parse_rows(b"..@..\n..@..\n").unwrap();
+        let r = plan(
+            walled.view(),
+            Cell::new(0, 0),
+            Cell::new(4, 1),
+            &mut nodes,
+            &mut open,
+            &mut out,
+        );
+        assert_eq!(r, Err(PlanError::NoValidPath));
+        assert!(nodes.iter().all(|n| *n == AStarNode::EMPTY));
     }
 }
