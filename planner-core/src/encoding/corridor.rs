@@ -61,6 +61,10 @@ const EXTENT_STEP: f32 = 0.25;
 /// is refined to `EXTENT_STEP / 2^EXTENT_BISECTIONS` (under 1e-3 cells).
 const EXTENT_BISECTIONS: u32 = 9;
 
+/// Factor on a straight leg in a lower bound of the cost: `1 - 2^-20`, well below the
+/// relative rounding error of a repaired leg's three-term sum (a few `2^-24`).
+const STRAIGHT_SHRINK: f32 = 1.0 - 1.0 / 1_048_576.0;
+
 /// The corridor encoding over a guide route.
 #[derive(Debug)]
 pub struct CorridorEncoding<'a> {
@@ -68,6 +72,17 @@ pub struct CorridorEncoding<'a> {
     guide: &'a [Point],
     /// Stations `0..=K+1`: the start, `K` movable ones, the goal.
     stations: &'a [Station],
+    /// Legs that needed a repair in an earlier exact pass of `cost_below` (bit `s` for leg
+    /// `s < 128`): checked first, since the swarm keeps probing the same corners.
+    hot: u128,
+    /// The leg whose repair last proved a bounded cost too high: checked first next time.
+    decisive: usize,
+}
+
+/// The bit of leg `s` in a leg set (legs from 128 on are never in one: they are checked in
+/// order like the others).
+fn leg_bit(s: usize) -> u128 {
+    if s < 128 { 1u128 << s } else { 0 }
 }
 
 impl<'a> CorridorEncoding<'a> {
@@ -201,6 +216,8 @@ impl<'a> CorridorEncoding<'a> {
             grid,
             guide,
             stations: &stations[..k + 2],
+            hot: 0,
+            decisive: 0,
         })
     }
 
@@ -209,6 +226,14 @@ impl<'a> CorridorEncoding<'a> {
         self.stations[1..self.stations.len() - 1]
             .iter()
             .map(|s| s.index as usize)
+    }
+
+    /// Length of leg `s` (`a -> b`) repaired along the guide: `a -> g_s -> (guide) ->
+    /// g_{s+1} -> b`.
+    fn repaired_leg(&self, s: usize, a: Point, b: Point) -> f32 {
+        a.distance(self.stations[s].point)
+            + self.stations[s].arc_to_next
+            + self.stations[s + 1].point.distance(b)
     }
 
     fn waypoint(&self, s: usize, x: &[f32]) -> Point {
@@ -244,10 +269,93 @@ impl Encoding for CorridorEncoding<'_> {
             total += if segment_is_clear(self.grid, a, b) {
                 a.distance(b)
             } else {
-                a.distance(self.stations[s].point)
-                    + self.stations[s].arc_to_next
-                    + self.stations[s + 1].point.distance(b)
+                self.repaired_leg(s, a, b)
             };
+            a = b;
+        }
+        total
+    }
+
+    fn cost_below(&mut self, x: &[f32], bound: f32) -> f32 {
+        if bound.is_nan() || bound == f32::INFINITY {
+            return self.cost(x);
+        }
+        let legs = self.stations.len() - 1;
+        // A repaired leg is never shorter than the straight one (triangle inequality), so
+        // straight legs in place of the unchecked ones bound the cost from below. Summed in
+        // the exact cost's order, with straight legs shrunk by a few ulps (a repair along the
+        // straight line may round a hair below it), the bound stays below the cost in `f32`
+        // too: round-to-nearest addition is monotone.
+        let lower = |enc: &Self, repaired: u128| {
+            let mut total = 0.0;
+            let mut a = enc.waypoint(0, x);
+            for s in 0..legs {
+                let b = enc.waypoint(s + 1, x);
+                total += if leg_bit(s) & repaired != 0 {
+                    enc.repaired_leg(s, a, b)
+                } else {
+                    a.distance(b) * STRAIGHT_SHRINK
+                };
+                a = b;
+            }
+            total
+        };
+        let first = lower(self, 0);
+        if first >= bound {
+            return first;
+        }
+        // Legs that needed a repair in earlier evaluations are checked first, the one that
+        // settled the previous bounded evaluation before the others: one of them is usually
+        // what makes a candidate worse than the bound.
+        let mut repaired = 0u128;
+        let mut clear = 0u128;
+        let first_leg = leg_bit(self.decisive) & self.hot;
+        let mut order = first_leg;
+        let mut hot = self.hot & !first_leg;
+        while order | hot != 0 {
+            let bits = if order != 0 { &mut order } else { &mut hot };
+            let s = bits.trailing_zeros() as usize;
+            *bits &= *bits - 1;
+            if s >= legs {
+                continue;
+            }
+            let (a, b) = (self.waypoint(s, x), self.waypoint(s + 1, x));
+            if segment_is_clear(self.grid, a, b) {
+                clear |= leg_bit(s);
+            } else {
+                repaired |= leg_bit(s);
+                let bound_now = lower(self, repaired);
+                if bound_now >= bound {
+                    self.decisive = s;
+                    return bound_now;
+                }
+            }
+        }
+        // The exact sum, in `cost`'s order; each newly repaired leg raises the bound again.
+        let mut total = 0.0;
+        let mut a = self.waypoint(0, x);
+        for s in 0..legs {
+            let b = self.waypoint(s + 1, x);
+            let bit = leg_bit(s);
+            let is_clear = if (repaired | clear) & bit != 0 {
+                clear & bit != 0
+            } else {
+                segment_is_clear(self.grid, a, b)
+            };
+            if is_clear {
+                total += a.distance(b);
+            } else {
+                total += self.repaired_leg(s, a, b);
+                if repaired & bit == 0 {
+                    repaired |= bit;
+                    self.hot |= bit;
+                    let bound_now = lower(self, repaired);
+                    if bound_now >= bound {
+                        self.decisive = s;
+                        return bound_now;
+                    }
+                }
+            }
             a = b;
         }
         total

@@ -30,6 +30,14 @@ pub trait Encoding {
     /// The cost of `x`: the decoded path's length, plus penalties if it is infeasible.
     fn cost(&mut self, x: &[f32]) -> f32;
 
+    /// `cost(x)` when it is below `bound`, otherwise any value `>= bound`
+    /// ([`Objective::cost_below`](crate::optim::Objective::cost_below)). The default is
+    /// `cost(x)`.
+    fn cost_below(&mut self, x: &[f32], bound: f32) -> f32 {
+        let _ = bound;
+        self.cost(x)
+    }
+
     /// Writes the path `x` decodes to (before pruning). [`PlanError::BudgetExhausted`] if `x`
     /// decodes to an infeasible path; [`PlanError::CapacityExceeded`] if `out` is too small.
     fn decode(&mut self, x: &[f32], out: &mut PathView) -> Result<(), PlanError>;
@@ -39,4 +47,23 @@ pub trait Encoding {
 /// visiting every cell once is shorter than `cells * sqrt 2`).
 pub fn infeasible_penalty(grid: GridRef<'_>) -> f32 {
     2.0 * grid.cells() as f32 + 1000.0
+}
+
+/// An [`Encoding`]'s cost as an optimizer [`Objective`](crate::optim::Objective), bounded
+/// evaluations included.
+pub struct Costs<'e, E: ?Sized>(pub &'e mut E);
+
+impl<E: Encoding + ?Sized> crate::optim::Objective for Costs<'_, E> {
+    fn cost(&mut self, x: &[f32]) -> f32 {
+        self.0.cost(x)
+    }
+
+    fn cost_below(&mut self, x: &[f32], bound: f32) -> f32 {
+        self.0.cost_below(x, bound)
+    }
+
+    /// Decoded lengths depend on the decision vector alone.
+    fn pure(&self) -> bool {
+        true
+    }
 }

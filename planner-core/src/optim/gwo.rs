@@ -122,6 +122,21 @@ impl<const D: usize> Leaders<D> {
         }
     }
 
+    /// The highest cost among the three: a wolf at or above it changes no leader under
+    /// either [`LeaderUpdate`] rule.
+    pub fn worst_cost(&self) -> f32 {
+        let ab = if self.beta.cost > self.alpha.cost {
+            self.beta.cost
+        } else {
+            self.alpha.cost
+        };
+        if self.delta.cost > ab {
+            self.delta.cost
+        } else {
+            ab
+        }
+    }
+
     /// Takes a newly evaluated wolf into the archive.
     pub fn offer(&mut self, x: &[f32], cost: f32, rule: LeaderUpdate) {
         match rule {
@@ -298,7 +313,11 @@ impl<const N: usize, const D: usize> Optimizer for Gwo<N, D> {
                     self.params.literal_abs,
                 );
                 let cand = row.get_mut(..dim).unwrap_or(&mut []);
-                let cost = sw.clamp_and_evaluate(objective, cand);
+                // Only a cost below the wolf's own or a leader's is used.
+                let worst = self.leaders.worst_cost();
+                let own = sw.pop.cost(i);
+                let bound = if own > worst { own } else { worst };
+                let cost = sw.clamp_and_evaluate_below(objective, cand, bound);
                 if cost < sw.pop.cost(i) {
                     sw.pop.replace(i, cand, cost);
                 }
@@ -321,7 +340,13 @@ impl<const N: usize, const D: usize> Optimizer for Gwo<N, D> {
         for i in 0..self.swarm.n() {
             let sw = &mut self.swarm;
             sw.bounds.clamp(sw.pop.position_mut(i));
-            let cost = sw.tracker.evaluate(objective, sw.pop.position(i));
+            // Without greedy selection a wolf's cost only feeds the leaders, so a cost at or
+            // above the worst leader's need not be exact (the stored value is then a lower
+            // bound, which nothing reads).
+            let bound = self.leaders.worst_cost();
+            let cost = sw
+                .tracker
+                .evaluate_below(objective, sw.pop.position(i), bound);
             sw.pop.set_cost(i, cost);
             self.leaders
                 .offer(sw.pop.position(i), cost, self.params.leaders);

@@ -153,6 +153,10 @@ pub struct Hho<const N: usize, const D: usize> {
     y: [f32; D],
     /// Candidate `Z`.
     z: [f32; D],
+    /// Whether hawk `i`'s cached cost is exact. With a [`pure`](Objective::pure) objective a
+    /// hawk that moves unconditionally is evaluated only against the rabbit (its cost matters
+    /// again only if it dives later, and is recomputed then); otherwise every cost is exact.
+    exact: [bool; N],
 }
 
 impl<const N: usize, const D: usize> Hho<N, D> {
@@ -177,6 +181,7 @@ impl<const N: usize, const D: usize> Hho<N, D> {
             sum: [0.0; D],
             y: [0.0; D],
             z: [0.0; D],
+            exact: [true; N],
         }
     }
 
@@ -206,6 +211,36 @@ impl<const N: usize, const D: usize> Hho<N, D> {
                 *s += v;
             }
         }
+    }
+
+    /// Evaluates `self.y` and moves hawk `i` there whatever its cost (exploration, besiege).
+    fn move_hawk_unconditionally<O: Objective + ?Sized>(&mut self, objective: &mut O, i: usize) {
+        if objective.pure() {
+            let rabbit = self.swarm.tracker.best_cost;
+            let cost = self.evaluate_y_below(objective, f32::NEG_INFINITY);
+            self.move_hawk_to_y(i, cost);
+            // Exact when it beat the rabbit (or there was none); else possibly a lower bound.
+            if let Some(e) = self.exact.get_mut(i) {
+                *e = rabbit == f32::INFINITY || cost < rabbit;
+            }
+        } else {
+            let cost = self.evaluate_y(objective);
+            self.move_hawk_to_y(i, cost);
+        }
+    }
+
+    /// Hawk `i`'s exact cost, recomputed if only a lower bound is cached (not counted as an
+    /// evaluation: it repeats one, and a pure objective gives the same value).
+    fn exact_cost<O: Objective + ?Sized>(&mut self, objective: &mut O, i: usize) -> f32 {
+        if !self.exact.get(i).copied().unwrap_or(true) {
+            let raw = objective.cost(self.swarm.pop.position(i));
+            let cost = if raw.is_nan() { f32::INFINITY } else { raw };
+            self.swarm.pop.set_cost(i, cost);
+            if let Some(e) = self.exact.get_mut(i) {
+                *e = true;
+            }
+        }
+        self.swarm.pop.cost(i)
     }
 
     /// Moves hawk `i` to `self.y` with cost `cost`, keeping the running sum.
@@ -258,15 +293,20 @@ impl<const N: usize, const D: usize> Hho<N, D> {
     }
 
     fn evaluate_y<O: Objective + ?Sized>(&mut self, objective: &mut O) -> f32 {
-        let dim = self.swarm.dim();
-        let y = self.y.get_mut(..dim).unwrap_or(&mut []);
-        self.swarm.clamp_and_evaluate(objective, y)
+        self.evaluate_y_below(objective, f32::INFINITY)
     }
 
-    fn evaluate_z<O: Objective + ?Sized>(&mut self, objective: &mut O) -> f32 {
+    /// Evaluates `Y` where only a cost below `bound` (or the rabbit's) matters.
+    fn evaluate_y_below<O: Objective + ?Sized>(&mut self, objective: &mut O, bound: f32) -> f32 {
+        let dim = self.swarm.dim();
+        let y = self.y.get_mut(..dim).unwrap_or(&mut []);
+        self.swarm.clamp_and_evaluate_below(objective, y, bound)
+    }
+
+    fn evaluate_z_below<O: Objective + ?Sized>(&mut self, objective: &mut O, bound: f32) -> f32 {
         let dim = self.swarm.dim();
         let z = self.z.get_mut(..dim).unwrap_or(&mut []);
-        self.swarm.clamp_and_evaluate(objective, z)
+        self.swarm.clamp_and_evaluate_below(objective, z, bound)
     }
 
     /// `X_m` as one number ([`HawkMean::Scalar`]), or `None` for the per-dimension mean.
@@ -354,8 +394,10 @@ impl<const N: usize, const D: usize> Hho<N, D> {
         // `Z` starts from the unclamped `Y`, as in `HHO.m` (`X2 = Rabbit - E |J Rabbit - X|
         // + S .* Levy`): evaluating `Y` clamps it in place.
         self.z = self.y;
-        let current = self.swarm.pop.cost(i);
-        let fy = self.evaluate_y(objective);
+        // A dive only replaces the hawk by a better point: costs at or above the hawk's are
+        // never used, so the objective may stop as soon as it knows.
+        let current = self.exact_cost(objective, i);
+        let fy = self.evaluate_y_below(objective, current);
         if fy < current {
             self.move_hawk_to_y(i, fy);
             return;
@@ -367,7 +409,7 @@ impl<const N: usize, const D: usize> Hho<N, D> {
             let s = sw.rng.unit();
             *z += s * scale * sw.rng.levy();
         }
-        let fz = self.evaluate_z(objective);
+        let fz = self.evaluate_z_below(objective, current);
         if fz < current {
             self.move_hawk_to_z(i, fz);
         }
@@ -380,6 +422,7 @@ impl<const N: usize, const D: usize> Optimizer for Hho<N, D> {
         objective: &mut O,
         initial: Option<&[&[f32]]>,
     ) -> Result<(), OptimError> {
+        self.exact = [true; N];
         self.swarm.initialise(objective, self.params.init, initial)
     }
 
@@ -396,8 +439,7 @@ impl<const N: usize, const D: usize> Optimizer for Hho<N, D> {
                 } else {
                     self.explore(i);
                 }
-                let cost = self.evaluate_y(objective);
-                self.move_hawk_to_y(i, cost);
+                self.move_hawk_unconditionally(objective, i);
                 continue;
             }
             let r = self.swarm.rng.unit();
@@ -413,8 +455,7 @@ impl<const N: usize, const D: usize> Optimizer for Hho<N, D> {
                     {
                         *y = rb - e * libm::fabsf(rb - x);
                     }
-                    let cost = self.evaluate_y(objective);
-                    self.move_hawk_to_y(i, cost);
+                    self.move_hawk_unconditionally(objective, i);
                 }
                 (true, true) => {
                     // Soft besiege.
@@ -428,17 +469,17 @@ impl<const N: usize, const D: usize> Optimizer for Hho<N, D> {
                     {
                         *y = (rb - x) - e * libm::fabsf(j * rb - x);
                     }
-                    let cost = self.evaluate_y(objective);
-                    self.move_hawk_to_y(i, cost);
+                    self.move_hawk_unconditionally(objective, i);
                 }
                 (false, true) => self.dive(objective, i, e, false),
                 (false, false) => self.dive(objective, i, e, true),
             }
         }
         if self.params.mutation == Mutation::AfterUpdates {
-            // The tracker keeps the mutant as the new rabbit only if it is better.
+            // The tracker keeps the mutant as the new rabbit only if it is better, so only a
+            // cost below the rabbit's matters.
             self.mutate_rabbit();
-            self.evaluate_y(objective);
+            self.evaluate_y_below(objective, f32::NEG_INFINITY);
         }
         Ok(())
     }

@@ -105,6 +105,26 @@ impl core::fmt::Display for OptimError {
 pub trait Objective {
     /// The cost of `x` (`x.len()` is the runtime dimension). NaN is read as `+inf`.
     fn cost(&mut self, x: &[f32]) -> f32;
+
+    /// The cost of `x` when it is below `bound`; otherwise any value `>= bound`.
+    ///
+    /// Optimizers call this where only "is `x` better than `bound`?" decides what happens
+    /// (a dive against the hawk it would replace, a wolf against the leaders), so an objective
+    /// that can prove `cost(x) >= bound` cheaply (a lower bound, checked before the expensive
+    /// part) may stop early. Whenever the true cost is below `bound` the result must be
+    /// exactly `cost(x)`, bit for bit: runs are then identical to runs that call `cost`.
+    /// The default is `cost(x)`.
+    fn cost_below(&mut self, x: &[f32], bound: f32) -> f32 {
+        let _ = bound;
+        self.cost(x)
+    }
+
+    /// Whether `cost` is a pure function of `x` (no noise, no log), so that an optimizer may
+    /// postpone an exact cost and compute it again later with the same result. The default is
+    /// `false`: every cost an optimizer keeps is then computed exactly when the point is.
+    fn pure(&self) -> bool {
+        false
+    }
 }
 
 impl<F: FnMut(&[f32]) -> f32> Objective for F {
@@ -608,7 +628,30 @@ impl<const D: usize> Tracker<D> {
 
     /// Evaluates `x`, counting it and taking it as the new best if it improves.
     pub fn evaluate<O: Objective + ?Sized>(&mut self, objective: &mut O, x: &[f32]) -> f32 {
-        let raw = objective.cost(x);
+        self.evaluate_below(objective, x, f32::INFINITY)
+    }
+
+    /// [`evaluate`](Self::evaluate) for a caller that only needs the cost when it is below
+    /// `bound` ([`Objective::cost_below`]): the result is exact below `bound` and below the
+    /// best cost (so the best point is tracked exactly), else some value at or above both.
+    pub fn evaluate_below<O: Objective + ?Sized>(
+        &mut self,
+        objective: &mut O,
+        x: &[f32],
+        bound: f32,
+    ) -> f32 {
+        let bound = if bound.is_nan() {
+            f32::INFINITY
+        } else if bound > self.best_cost {
+            bound
+        } else {
+            self.best_cost
+        };
+        let raw = if bound == f32::INFINITY {
+            objective.cost(x)
+        } else {
+            objective.cost_below(x, bound)
+        };
         let cost = if raw.is_nan() { f32::INFINITY } else { raw };
         self.evaluations += 1;
         if cost < self.best_cost || self.evaluations == 1 {
@@ -772,6 +815,18 @@ impl<const N: usize, const D: usize> Swarm<N, D> {
     ) -> f32 {
         self.bounds.clamp(x);
         self.tracker.evaluate(objective, x)
+    }
+
+    /// [`clamp_and_evaluate`](Self::clamp_and_evaluate) where only a cost below `bound`
+    /// matters ([`Tracker::evaluate_below`]).
+    pub fn clamp_and_evaluate_below<O: Objective + ?Sized>(
+        &mut self,
+        objective: &mut O,
+        x: &mut [f32],
+        bound: f32,
+    ) -> f32 {
+        self.bounds.clamp(x);
+        self.tracker.evaluate_below(objective, x, bound)
     }
 }
 

@@ -128,9 +128,21 @@ impl Random {
         }
     }
 
-    /// Standard Cauchy draw `tan(pi (u - 1/2))`.
+    /// Standard Cauchy draw: `u / v` for a point `(u, v)` uniform in the unit disc (its
+    /// angle is uniform, so the ratio is `tan` of a uniform angle, the standard Cauchy).
+    ///
+    /// Not `tan(pi (r - 1/2))`: libm's `tanf` works in `f64`, which a Cortex-M4F emulates in
+    /// software; this takes two uniforms and one division per accepted point (acceptance
+    /// pi/4).
     pub fn cauchy(&mut self) -> f32 {
-        libm::tanf(core::f32::consts::PI * (self.open_unit() - 0.5))
+        loop {
+            let u = 2.0 * self.unit() - 1.0;
+            let v = 2.0 * self.unit() - 1.0;
+            let s = u * u + v * v;
+            if s < 1.0 && v != 0.0 {
+                return u / v;
+            }
+        }
     }
 
     /// One Mantegna Levy step with `beta = 1.5`, unscaled (HHO multiplies it by 0.01).
@@ -138,11 +150,37 @@ impl Random {
         // Both normals from one polar attempt: half the logarithms of two separate draws.
         let (u, v) = self.normal_pair();
         let u = u * LEVY_SIGMA_1_5;
-        // |v|^(1/1.5) = cbrt(v^2): libm's powf costs several times cbrtf. A zero `v`
+        // |v|^(1/1.5) = cbrt(v^2) (libm's powf costs several times a cube root). A zero `v`
         // (probability ~0) would give an infinite step; keep it finite anyway.
-        let denom = libm::cbrtf(v * v).max(f32::MIN_POSITIVE);
-        u / denom
+        u / cbrt_positive(v * v)
     }
+}
+
+/// Cube root of `x`, taken as at least `f32::MIN_POSITIVE` (so the result is positive and
+/// finite for every finite `x`), in `f32` arithmetic only.
+///
+/// libm's `cbrtf` refines in `f64`, which a Cortex-M4F emulates in software: it was the
+/// largest single cost of a TCLHHO plan there (one per coordinate of every Levy dive). Here:
+/// an exponent-thirding bit estimate (within 4%), then four Newton steps, each of which about
+/// squares the relative error (4e-2, 2e-3, 4e-6, 2e-11: `f32` rounding then decides, so the
+/// result is within 2 ulp of the true root). Plain `f32` operations round the same way on
+/// every target, so plans stay bit-identical between hosts and the MCU.
+pub fn cbrt_positive(x: f32) -> f32 {
+    // Comparisons, not `max`, which is a libm call on Cortex-M4 and lets NaN through.
+    let x = if (f32::MIN_POSITIVE..=f32::MAX).contains(&x) {
+        x
+    } else if x > f32::MAX {
+        f32::MAX
+    } else {
+        f32::MIN_POSITIVE
+    };
+    // Dividing the biased exponent by three: bits / 3 + 2/3 of the bias (709,958,130 is
+    // musl's constant for the same estimate).
+    let mut y = f32::from_bits(x.to_bits() / 3 + 709_958_130);
+    for _ in 0..4 {
+        y = (2.0 * y + x / (y * y)) * (1.0 / 3.0);
+    }
+    y
 }
 
 #[cfg(test)]
@@ -195,9 +233,33 @@ mod tests {
         // The standard Cauchy has quartiles -1 and 1: about half of the draws lie in [-1, 1].
         let mut r = Random::new(5);
         let n = 100_000;
-        let inside = (0..n).filter(|_| r.cauchy().abs() <= 1.0).count();
-        let frac = inside as f64 / f64::from(n);
-        assert!((frac - 0.5).abs() < 0.01, "{frac}");
+        let draws: std::vec::Vec<f32> = (0..n).map(|_| r.cauchy()).collect();
+        let frac =
+            |f: &dyn Fn(f32) -> bool| draws.iter().filter(|&&x| f(x)).count() as f64 / f64::from(n);
+        assert!((frac(&|x| x.abs() <= 1.0) - 0.5).abs() < 0.01);
+        // P(X <= -1) = 1/4 (symmetry), P(|X| <= tan(pi/10)) = 1/5, P(|X| <= tan(2pi/5)) = 4/5.
+        assert!((frac(&|x| x <= -1.0) - 0.25).abs() < 0.01);
+        assert!((frac(&|x| x.abs() <= 0.324_919_7) - 0.2).abs() < 0.01);
+        assert!((frac(&|x| x.abs() <= 3.077_683_5) - 0.8).abs() < 0.01);
+    }
+
+    #[test]
+    fn cube_roots_are_within_two_ulp() {
+        let mut x = f32::MIN_POSITIVE;
+        while x < 1e30 {
+            for k in 0..7 {
+                let v = x * (1.0 + k as f32 / 7.0);
+                let want = libm::cbrt(f64::from(v));
+                let got = f64::from(cbrt_positive(v));
+                let ulp = f64::from(f32::EPSILON) * want;
+                assert!((got - want).abs() <= 2.0 * ulp, "{v}: {got} vs {want}");
+            }
+            x *= 3.7;
+        }
+        assert_eq!(cbrt_positive(27.0), 3.0);
+        assert_eq!(cbrt_positive(0.0), cbrt_positive(f32::MIN_POSITIVE));
+        assert_eq!(cbrt_positive(f32::NAN), cbrt_positive(f32::MIN_POSITIVE));
+        assert!(cbrt_positive(f32::INFINITY).is_finite());
     }
 
     #[test]

@@ -603,7 +603,7 @@ fn optimise<const N: usize, const D: usize, E: Encoding, O: PlanOptimizer<N, D>>
     };
     opt.configure_kind(params.algorithm, settings, &bounds)
         .map_err(optim_error)?;
-    let mut objective = |x: &[f32]| enc.cost(x);
+    let mut objective = crate::encoding::Costs(enc);
     match params.init {
         InitKind::Optimizer => opt.init(&mut objective, None),
         InitKind::Diffusion => {
@@ -639,7 +639,7 @@ fn optimise<const N: usize, const D: usize, E: Encoding, O: PlanOptimizer<N, D>>
         }
     };
     let final_cost = opt.best_cost();
-    enc.decode(opt.best_position(), out)?;
+    objective.0.decode(opt.best_position(), out)?;
     let valid = match walk_rule {
         Some(rule) => {
             validate_walk(grid, out, rule)
