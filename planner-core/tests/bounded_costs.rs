@@ -14,7 +14,7 @@ use planner_core::optim::gwo::{Gwo, GwoParams};
 use planner_core::optim::hho::{Hho, HhoParams};
 use planner_core::optim::{Bounds, Optimizer, Settings, Stop};
 use planner_core::path::Path;
-use planner_core::search::{SearchNode, astar};
+use planner_core::search::astar::{self, AStarNode, OpenSlot};
 
 const WORDS: usize = words_for(40, 40);
 
@@ -23,9 +23,18 @@ fn warehouse() -> SeedMap<WORDS> {
 }
 
 fn guide(map: &SeedMap<WORDS>) -> Path<256> {
-    let mut nodes = vec![SearchNode::EMPTY; 40 * 40];
+    let mut nodes = vec![AStarNode::EMPTY; 40 * 40];
+    let mut open = vec![OpenSlot::EMPTY; astar::open_capacity(40 * 40)];
     let mut p = Path::new();
-    astar::plan(map.grid.view(), map.start, map.goal, &mut nodes, &mut p).unwrap();
+    astar::plan(
+        map.grid.view(),
+        map.start,
+        map.goal,
+        &mut nodes,
+        &mut open,
+        &mut p,
+    )
+    .unwrap();
     p
 }
 
