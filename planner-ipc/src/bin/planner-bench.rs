@@ -394,7 +394,7 @@ fn uds_peer(path: &Path, busy: bool) -> anyhow::Result<()> {
 fn ipc_echo(prefix: &str) -> anyhow::Result<()> {
     use planner_ipc::services;
     use planner_ipc::wire::PlanResponseHeader;
-    let node = services::node("planner-bench-echo")?;
+    let node = services::node::<services::Svc>("planner-bench-echo")?;
     let service =
         services::plan_service_create(&node, &Names::new(prefix), &services::Limits::default())?;
     let server = service
