@@ -185,8 +185,15 @@ fn serve_ports<S: Service>(
 
     // Set on the first idle pass (only blocking mode reads it): no clock read per request.
     let mut idle_since: Option<Instant> = None;
+    let mut passes = 0u32;
     while !shutdown.load(Ordering::Relaxed) {
-        let mut busy = drain_maps(&shared, &subscriber)?;
+        passes = passes.wrapping_add(1);
+        // Every request drains the maps first (below), so a spinning server may look for
+        // maps less often and spend its passes on the request port: a request then waits
+        // less for the pass that sees it. A blocking server sleeps between passes.
+        let look_for_maps =
+            config.mode == WaitMode::Blocking || passes.is_multiple_of(BUSY_PASSES_PER_MAP_POLL);
+        let mut busy = look_for_maps && drain_maps(&shared, &subscriber)?;
         while let Some(active) = server
             .receive()
             .map_err(|e| anyhow::anyhow!("receive: {e:?}"))?
@@ -250,6 +257,9 @@ fn serve_ports<S: Service>(
     );
     Ok(())
 }
+
+/// How often a busy server's idle passes look for map frames.
+const BUSY_PASSES_PER_MAP_POLL: u32 = 16;
 
 /// Stores every map frame waiting in the subscriber; returns whether there was any.
 fn drain_maps<S: Service>(
