@@ -18,7 +18,7 @@
 //! [`Wait::Blocking`] spins for a short while, then sleeps on the client's own wake event,
 //! which the server notifies after answering.
 
-use crate::services::{self, EventService, Limits, MapService, Names, PlanService, Svc};
+use crate::services::{self, EventService, Limits, LocalSvc, MapService, Names, PlanService};
 use crate::wire::{
     DecodeError, Failure, MAP_CAPACITY_CELLS, MapHeader, MapMeta, PlanOk, PlanRequest,
     PlanResponseHeader, RequestKind, ServiceError, Waypoint, WireGrid, pack_map,
@@ -29,6 +29,7 @@ use iceoryx2::port::listener::Listener;
 use iceoryx2::port::notifier::Notifier;
 use iceoryx2::port::publisher::Publisher;
 use iceoryx2::port::update_connections::UpdateConnections;
+use iceoryx2::service::Service;
 use planner_core::PlanError;
 use planner_core::error::MapError;
 use planner_core::grid::GridRef;
@@ -153,32 +154,36 @@ fn ipc<E: fmt::Debug>(e: E) -> ClientError {
     ClientError::Ipc(format!("{e:?}"))
 }
 
-struct PlanPorts {
-    _service: PlanService,
-    client: Client<Svc, PlanRequest, (), [Waypoint], PlanResponseHeader>,
-    _wake_service: EventService,
-    wake_server: Notifier<Svc>,
+struct PlanPorts<S: Service> {
+    _service: PlanService<S>,
+    client: Client<S, PlanRequest, (), [Waypoint], PlanResponseHeader>,
+    _wake_service: EventService<S>,
+    wake_server: Notifier<S>,
 }
 
-struct MapPorts {
-    _service: MapService,
-    publisher: Publisher<Svc, [u32], MapHeader>,
+struct MapPorts<S: Service> {
+    _service: MapService<S>,
+    publisher: Publisher<S, [u32], MapHeader>,
     words: Vec<u32>,
 }
 
-struct OwnWake {
+struct OwnWake<S: Service> {
     token: u64,
-    _service: EventService,
-    listener: Listener<Svc>,
+    _service: EventService<S>,
+    listener: Listener<S>,
 }
 
 /// A connection to the planner service (one outstanding request at a time).
-pub struct PlannerClient {
-    node: Node<Svc>,
+///
+/// By default its ports are single-threaded ([`LocalSvc`]), the fastest flavour, so the
+/// client cannot move to another thread; a `PlannerClient<services::Svc>` (made with
+/// [`with_ports`](Self::with_ports)) can.
+pub struct PlannerClient<S: Service = LocalSvc> {
+    node: Node<S>,
     config: ClientConfig,
-    plan: Option<PlanPorts>,
-    map: Option<MapPorts>,
-    wake: Option<OwnWake>,
+    plan: Option<PlanPorts<S>>,
+    map: Option<MapPorts<S>>,
+    wake: Option<OwnWake<S>>,
     next_id: u64,
     versions: HashMap<u32, u32>,
     last_server_time_us: Option<f32>,
@@ -188,6 +193,13 @@ impl PlannerClient {
     /// Creates the client's node (and, in blocking mode, its wake event). Connecting to
     /// the server is lazy: a client may start before the server.
     pub fn new(config: ClientConfig) -> Result<Self, ClientError> {
+        Self::with_ports(config)
+    }
+}
+
+impl<S: Service> PlannerClient<S> {
+    /// Like [`PlannerClient::new`], with ports of the service flavour `S`.
+    pub fn with_ports(config: ClientConfig) -> Result<Self, ClientError> {
         let node =
             services::node(&config.node_name).map_err(|e| ClientError::Ipc(e.to_string()))?;
         let wake = match config.wait {
@@ -220,7 +232,7 @@ impl PlannerClient {
         })
     }
 
-    fn plan_ports(&mut self) -> Result<&PlanPorts, ClientError> {
+    fn plan_ports(&mut self) -> Result<&PlanPorts<S>, ClientError> {
         if self.plan.is_none() {
             let service =
                 services::plan_service_open(&self.node, &self.config.names, &self.config.limits)
@@ -244,7 +256,7 @@ impl PlannerClient {
         self.plan.as_ref().ok_or(ClientError::NoServer)
     }
 
-    fn map_ports(&mut self) -> Result<&mut MapPorts, ClientError> {
+    fn map_ports(&mut self) -> Result<&mut MapPorts<S>, ClientError> {
         if self.map.is_none() {
             let service =
                 services::map_service(&self.node, &self.config.names, &self.config.limits)
@@ -381,12 +393,13 @@ impl PlannerClient {
         let notify = self.config.notify_server;
         let ports = self.plan_ports()?;
         let deadline = began + timeout;
-        // Wall clock first, then the monotonic one: the client polls at least until the
-        // wall-clock time it announces, so an answer sent before it needs no wake-up.
-        let wall = crate::wire::unix_ns();
         let spin_until = match wait {
             Wait::Busy => deadline,
             Wait::Blocking { spin } => {
+                // Wall clock first, then the monotonic one: the client polls at least until
+                // the wall-clock time it announces, so an answer sent before it needs no
+                // wake-up. (A busy client never sleeps: no wall clock read, 0 announced.)
+                let wall = crate::wire::unix_ns();
                 request.polls_until_ns = wall.saturating_add(spin.as_nanos() as u64);
                 Instant::now() + spin
             }
@@ -398,6 +411,7 @@ impl PlannerClient {
         if notify {
             let _ = ports.wake_server.notify();
         }
+        let mut polls = 0u32;
         loop {
             if let Some(response) = pending.receive().map_err(ipc)? {
                 let header = response.user_header();
@@ -415,6 +429,13 @@ impl PlannerClient {
                     Ok(ok) => Ok((ok, result.time_us)),
                     Err(f) => Err(f.into()),
                 };
+            }
+            polls = polls.wrapping_add(1);
+            if wait == Wait::Busy && !polls.is_multiple_of(BUSY_POLLS_PER_CLOCK_READ) {
+                // A clock read costs about as much as a poll on the VM: reading it on every
+                // poll would delay noticing the answer.
+                std::hint::spin_loop();
+                continue;
             }
             let now = Instant::now();
             if now >= deadline {
@@ -439,6 +460,9 @@ impl PlannerClient {
         }
     }
 }
+
+/// How many polls a busy client makes between two checks of its deadline.
+const BUSY_POLLS_PER_CLOCK_READ: u32 = 16;
 
 /// Parses a Moving AI map into the wire grid: too large is [`ServiceError::MapTooLarge`].
 pub fn parse_map(bytes: &[u8]) -> Result<Box<WireGrid>, ClientError> {

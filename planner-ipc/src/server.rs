@@ -14,7 +14,7 @@
 //! finish, then the ports close.
 
 use crate::engine::{Engine, MapUpdate, Scratch};
-use crate::services::{self, Limits, Names, Svc};
+use crate::services::{self, Limits, LocalSvc, Names, Svc};
 use crate::wire::{
     Failure, MapHeader, PlanRequest, PlanResponseHeader, PlanResult, ServiceError, Waypoint,
     grid_from_bits,
@@ -22,6 +22,7 @@ use crate::wire::{
 use iceoryx2::active_request::ActiveRequest;
 use iceoryx2::node::Node;
 use iceoryx2::port::notifier::Notifier;
+use iceoryx2::service::Service;
 use iceoryx2::service::port_factory::PortFactory;
 use std::collections::HashMap;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
@@ -73,27 +74,66 @@ impl Default for ServerConfig {
     }
 }
 
-type Active = ActiveRequest<Svc, PlanRequest, (), [Waypoint], PlanResponseHeader>;
+type Active<S> = ActiveRequest<S, PlanRequest, (), [Waypoint], PlanResponseHeader>;
+type Jobs<S> = Arc<Mutex<mpsc::Receiver<(Active<S>, Option<Instant>)>>>;
 
 /// State shared by the port thread and the workers.
-struct Shared {
-    node: Node<Svc>,
+struct Shared<S: Service> {
+    node: Node<S>,
     names: Names,
     limits: Limits,
     engine: Engine,
-    wakers: Mutex<HashMap<u64, Waker>>,
+    wakers: Mutex<HashMap<u64, Waker<S>>>,
     served: AtomicU64,
     cancelled: AtomicU64,
 }
 
-struct Waker {
-    service: services::EventService,
-    notifier: Notifier<Svc>,
+struct Waker<S: Service> {
+    service: services::EventService<S>,
+    notifier: Notifier<S>,
 }
 
 /// Runs the server until `shutdown` becomes true.
 pub fn run(config: &ServerConfig, shutdown: &AtomicBool) -> anyhow::Result<()> {
-    let node = services::node("planner-server")?;
+    if config.workers > 1 {
+        // Active requests cross to the workers: thread-safe ports.
+        serve_ports::<Svc>(config, shutdown, spawn_workers)
+    } else {
+        // One thread owns everything: single-threaded ports, no mutex per port call.
+        serve_ports::<LocalSvc>(config, shutdown, |_, _, _| {
+            unreachable!("no workers when planning inline")
+        })
+    }
+}
+
+fn spawn_workers(
+    shared: &Arc<Shared<Svc>>,
+    jobs: &Jobs<Svc>,
+    workers: usize,
+) -> std::io::Result<Vec<std::thread::JoinHandle<()>>> {
+    (0..workers)
+        .map(|i| {
+            let jobs = jobs.clone();
+            let shared = shared.clone();
+            std::thread::Builder::new()
+                .name(format!("planner-worker-{i}"))
+                .spawn(move || worker(&shared, &jobs))
+        })
+        .collect()
+}
+
+/// The serving loop on ports of flavour `S`; `spawn` starts the workers (only called when
+/// `config.workers > 1`).
+fn serve_ports<S: Service>(
+    config: &ServerConfig,
+    shutdown: &AtomicBool,
+    spawn: impl FnOnce(
+        &Arc<Shared<S>>,
+        &Jobs<S>,
+        usize,
+    ) -> std::io::Result<Vec<std::thread::JoinHandle<()>>>,
+) -> anyhow::Result<()> {
+    let node = services::node::<S>("planner-server")?;
     let cleaned = services::cleanup_dead_nodes(&node);
     log::info!(
         "planner-server: prefix {:?}, {} worker(s), {:?} mode, max map {} cells, {} map ids, {} clients; removed {} dead node(s)",
@@ -133,32 +173,34 @@ pub fn run(config: &ServerConfig, shutdown: &AtomicBool) -> anyhow::Result<()> {
     });
 
     let workers = config.workers.max(1);
-    let (tx, rx) = mpsc::channel::<(Active, Instant)>();
+    let (tx, rx) = mpsc::channel::<(Active<S>, Option<Instant>)>();
     let rx = Arc::new(Mutex::new(rx));
-    let mut handles = Vec::new();
-    if workers > 1 {
-        for i in 0..workers {
-            let rx = rx.clone();
-            let shared = shared.clone();
-            handles.push(
-                std::thread::Builder::new()
-                    .name(format!("planner-worker-{i}"))
-                    .spawn(move || worker(&shared, &rx))?,
-            );
-        }
-    }
+    let handles = if workers > 1 {
+        spawn(&shared, &rx, workers)?
+    } else {
+        Vec::new()
+    };
     let mut scratch = Scratch::default();
     log::info!("planner-server ready");
 
-    let mut idle_since = Instant::now();
+    // Set on the first idle pass (only blocking mode reads it): no clock read per request.
+    let mut idle_since: Option<Instant> = None;
+    let mut passes = 0u32;
     while !shutdown.load(Ordering::Relaxed) {
-        let mut busy = drain_maps(&shared, &subscriber)?;
+        passes = passes.wrapping_add(1);
+        // Every request drains the maps first (below), so a spinning server may look for
+        // maps less often and spend its passes on the request port: a request then waits
+        // less for the pass that sees it. A blocking server sleeps between passes.
+        let look_for_maps =
+            config.mode == WaitMode::Blocking || passes.is_multiple_of(BUSY_PASSES_PER_MAP_POLL);
+        let mut busy = look_for_maps && drain_maps(&shared, &subscriber)?;
         while let Some(active) = server
             .receive()
             .map_err(|e| anyhow::anyhow!("receive: {e:?}"))?
         {
             busy = true;
-            let now = Instant::now();
+            // Only a request with a deadline needs the time of its receipt.
+            let now = (active.payload().deadline_us > 0).then(Instant::now);
             // A map published before this request may have landed after the drain above.
             drain_maps(&shared, &subscriber)?;
             if workers > 1 {
@@ -170,13 +212,13 @@ pub fn run(config: &ServerConfig, shutdown: &AtomicBool) -> anyhow::Result<()> {
             }
         }
         if busy {
-            idle_since = Instant::now();
+            idle_since = None;
             continue;
         }
         match config.mode {
             WaitMode::Busy => std::hint::spin_loop(),
             WaitMode::Blocking => {
-                if idle_since.elapsed() >= config.spin {
+                if idle_since.get_or_insert_with(Instant::now).elapsed() >= config.spin {
                     // Any notification sent after our last receive() is still pending in the
                     // listener, so no wake-up is lost between the check and the wait.
                     if let Err(e) = listener.timed_wait(|_| {}, config.tick) {
@@ -216,10 +258,13 @@ pub fn run(config: &ServerConfig, shutdown: &AtomicBool) -> anyhow::Result<()> {
     Ok(())
 }
 
+/// How often a busy server's idle passes look for map frames.
+const BUSY_PASSES_PER_MAP_POLL: u32 = 16;
+
 /// Stores every map frame waiting in the subscriber; returns whether there was any.
-fn drain_maps(
-    shared: &Shared,
-    subscriber: &iceoryx2::port::subscriber::Subscriber<Svc, [u32], MapHeader>,
+fn drain_maps<S: Service>(
+    shared: &Shared<S>,
+    subscriber: &iceoryx2::port::subscriber::Subscriber<S, [u32], MapHeader>,
 ) -> anyhow::Result<bool> {
     let mut any = false;
     while let Some(sample) = subscriber
@@ -268,7 +313,7 @@ fn drain_maps(
     Ok(any)
 }
 
-fn worker(shared: &Shared, rx: &Mutex<mpsc::Receiver<(Active, Instant)>>) {
+fn worker(shared: &Shared<Svc>, rx: &Mutex<mpsc::Receiver<(Active<Svc>, Option<Instant>)>>) {
     let mut scratch = Scratch::default();
     loop {
         let job = {
@@ -283,10 +328,14 @@ fn worker(shared: &Shared, rx: &Mutex<mpsc::Receiver<(Active, Instant)>>) {
 }
 
 /// Plans one request and answers it (unless the client gave up).
-fn serve(shared: &Shared, scratch: &mut Scratch, active: Active, received: Instant) {
+fn serve<S: Service>(
+    shared: &Shared<S>,
+    scratch: &mut Scratch,
+    active: Active<S>,
+    received: Option<Instant>,
+) {
     let request = *active.payload();
-    let late =
-        request.deadline_us > 0 && received.elapsed() > Duration::from_micros(request.deadline_us);
+    let late = received.is_some_and(|t| t.elapsed() > Duration::from_micros(request.deadline_us));
     let result = if late {
         PlanResult {
             request_id: request.request_id,
@@ -322,7 +371,12 @@ fn serve(shared: &Shared, scratch: &mut Scratch, active: Active, received: Insta
     shared.served.fetch_add(1, Ordering::Relaxed);
 }
 
-fn respond(shared: &Shared, active: Active, request: &PlanRequest, result: &PlanResult) {
+fn respond<S: Service>(
+    shared: &Shared<S>,
+    active: Active<S>,
+    request: &PlanRequest,
+    result: &PlanResult,
+) {
     if !active.is_connected() {
         shared.cancelled.fetch_add(1, Ordering::Relaxed);
         log::info!(
@@ -355,14 +409,15 @@ fn respond(shared: &Shared, active: Active, request: &PlanRequest, result: &Plan
     drop(active);
     // A client still polling for a while needs no wake-up syscall (2 us of margin for
     // the two processes' readings of the shared wall clock).
-    let polling = crate::wire::unix_ns().saturating_add(2_000) < request.polls_until_ns;
-    if request.wake_token != 0 && !polling {
+    if request.wake_token != 0
+        && crate::wire::unix_ns().saturating_add(2_000) >= request.polls_until_ns
+    {
         wake(shared, request.wake_token);
     }
 }
 
 /// Notifies a blocking client's wake event (opened once per client token, cached).
-fn wake(shared: &Shared, token: u64) {
+fn wake<S: Service>(shared: &Shared<S>, token: u64) {
     let mut wakers = shared.wakers.lock().unwrap_or_else(|p| p.into_inner());
     if !wakers.contains_key(&token) {
         // A new client: forget the events of clients that are gone (no listener left), so

@@ -2,7 +2,7 @@
 //!
 //! ```text
 //! cargo build --release -p planner-ipc --bins
-//! target/release/planner-bench [--iterations 10000]
+//! target/release/planner-bench [--iterations 10000] [--mode busy|blocking]
 //! ```
 //! For a 64x64 and a 340x164 empty map, in busy and blocking modes, it measures:
 //! - the round trip of a trivial plan (A* from (0,0) to (3,2)): iceoryx2 against the
@@ -13,17 +13,22 @@
 //!   loan + write + send of a map frame (header + used words); socket: postcard encoding + write), and the full
 //!   update until the server confirms it holds the new version.
 //!
+//! `planner-bench raw [N]` prints the floors under the plan round trip (see [`raw_floor`]).
+//!
 //! Socket framing: a little-endian `u32` length, then the postcard bytes of a
 //! [`UdsRequest`] or [`UdsResponse`]. Busy mode spins on non-blocking sockets; blocking
 //! mode blocks in `read`.
 
 use anyhow::Context;
-use planner_ipc::client::{ClientConfig, PlannerClient, Wait};
+use iceoryx2::prelude::*;
+use iceoryx2::service::port_factory::publish_subscribe::PortFactory as PubSubFactory;
+use iceoryx2::service::port_factory::request_response::PortFactory as ReqRespFactory;
+use planner_ipc::client::{ClientConfig, ClientError, PlannerClient, Wait};
 use planner_ipc::engine::{Engine, Scratch};
 use planner_ipc::services::Names;
 use planner_ipc::wire::{
-    Algorithm, MAP_CAPACITY_CELLS, MapHeader, MapMeta, MapMsg, PlanRequest, PlanResult,
-    RequestKind, WireGrid,
+    Algorithm, MAP_CAPACITY_CELLS, MapHeader, MapMeta, MapMsg, PlanRequest, PlanResponseHeader,
+    PlanResult, RequestKind, Waypoint, WireGrid,
 };
 use serde::{Deserialize, Serialize};
 use std::io::{ErrorKind, Read, Write};
@@ -53,8 +58,8 @@ fn main() -> anyhow::Result<()> {
         let busy = args.get(2).map(String::as_str) == Some("busy");
         return uds_peer(&path, busy);
     }
-    if args.first().map(String::as_str) == Some("ipc-echo") {
-        return ipc_echo(args.get(1).context("ipc-echo PREFIX")?);
+    if args.first().map(String::as_str) == Some("echo") {
+        return echo(&args[1..]);
     }
     if args.first().map(String::as_str) == Some("raw") {
         return raw_floor(args.get(1).map_or(Ok(20_000), |v| v.parse())?);
@@ -70,9 +75,16 @@ fn main() -> anyhow::Result<()> {
         "{:<9} {:<8} {:<26} {:>10} {:>10} {:>10} {:>10} {:>8}",
         "map", "mode", "what", "ipc p50", "ipc p99", "uds p50", "uds p99", "ratio"
     );
+    // `--mode busy|blocking`: only that waiting mode.
+    let only = match args.iter().position(|a| a == "--mode") {
+        Some(i) => Some(args.get(i + 1).context("--mode busy|blocking")?.as_str() == "busy"),
+        None => None,
+    };
     for (w, h) in [(64usize, 64usize), (340, 164)] {
         for busy in [true, false] {
-            run_case(w, h, busy, iterations)?;
+            if only.is_none_or(|b| b == busy) {
+                run_case(w, h, busy, iterations)?;
+            }
         }
     }
     println!(
@@ -389,32 +401,119 @@ fn uds_peer(path: &Path, busy: bool) -> anyhow::Result<()> {
     }
 }
 
-/// A bare iceoryx2 echo server on the plan service (no engine): answers every request at
-/// once with an empty ok header. Measures the floor of the iceoryx2 round trip.
-fn ipc_echo(prefix: &str) -> anyhow::Result<()> {
-    use planner_ipc::services;
-    use planner_ipc::wire::PlanResponseHeader;
-    let node = services::node("planner-bench-echo")?;
-    let service =
-        services::plan_service_create(&node, &Names::new(prefix), &services::Limits::default())?;
+/// Which iceoryx2 service flavour a floor measurement uses.
+#[derive(Clone, Copy, Debug)]
+enum Flavour {
+    /// `ipc_threadsafe::Service` (what the crate uses: ports behind a mutex).
+    ThreadSafe,
+    /// `ipc::Service` (single-threaded ports, no mutex).
+    Local,
+}
+
+impl Flavour {
+    fn name(self) -> &'static str {
+        match self {
+            Flavour::ThreadSafe => "ts",
+            Flavour::Local => "local",
+        }
+    }
+
+    fn parse(text: Option<&String>) -> anyhow::Result<Self> {
+        match text.map(String::as_str) {
+            Some("ts") => Ok(Flavour::ThreadSafe),
+            Some("local") => Ok(Flavour::Local),
+            other => anyhow::bail!("flavour ts|local, got {other:?}"),
+        }
+    }
+}
+
+fn ice<E: std::fmt::Debug>(e: E) -> anyhow::Error {
+    anyhow::anyhow!("{e:?}")
+}
+
+fn raw_node<S: iceoryx2::service::Service>(name: &str) -> anyhow::Result<Node<S>> {
+    NodeBuilder::new()
+        .name(&NodeName::new(name).map_err(ice)?)
+        .signal_handling_mode(SignalHandlingMode::Disabled)
+        .create::<S>()
+        .map_err(ice)
+}
+
+fn raw_name(prefix: &str, suffix: &str) -> anyhow::Result<ServiceName> {
+    ServiceName::new(&format!("{prefix}/{suffix}")).map_err(ice)
+}
+
+/// The bare request-response service: the plan service's types, at most one request in
+/// flight per client.
+fn rr_service<S: iceoryx2::service::Service>(
+    node: &Node<S>,
+    prefix: &str,
+) -> anyhow::Result<ReqRespFactory<S, PlanRequest, (), [Waypoint], PlanResponseHeader>> {
+    node.service_builder(&raw_name(prefix, "plan")?)
+        .request_response::<PlanRequest, [Waypoint]>()
+        .response_user_header::<PlanResponseHeader>()
+        .enable_safe_overflow_for_requests(false)
+        .enable_safe_overflow_for_responses(false)
+        .open_or_create()
+        .map_err(ice)
+}
+
+/// `planner-bench echo plan|rr|ps ts|local PREFIX`: the far side of a floor measurement, for a
+/// minute at most.
+fn echo(args: &[String]) -> anyhow::Result<()> {
+    let prefix = args.get(2).context("echo plan|rr|ps ts|local PREFIX")?;
+    match (
+        args.first().map(String::as_str),
+        Flavour::parse(args.get(1))?,
+    ) {
+        (Some("plan"), Flavour::ThreadSafe) => plan_echo::<planner_ipc::services::Svc>(prefix),
+        (Some("plan"), Flavour::Local) => plan_echo::<planner_ipc::services::LocalSvc>(prefix),
+        (Some("rr"), Flavour::ThreadSafe) => rr_echo::<ipc_threadsafe::Service>(prefix),
+        (Some("rr"), Flavour::Local) => rr_echo::<ipc::Service>(prefix),
+        (Some("ps"), Flavour::ThreadSafe) => ps_echo::<ipc_threadsafe::Service>(prefix),
+        (Some("ps"), Flavour::Local) => ps_echo::<ipc::Service>(prefix),
+        (other, _) => anyhow::bail!("echo plan|rr|ps, got {other:?}"),
+    }
+}
+
+/// The bare echo server on the plan service itself (as the server creates it).
+fn plan_echo<S: iceoryx2::service::Service>(prefix: &str) -> anyhow::Result<()> {
+    let node = planner_ipc::services::node::<S>("planner-bench-echo")?;
+    let limits = planner_ipc::services::Limits::default();
+    rr_serve(&planner_ipc::services::plan_service_create(
+        &node,
+        &Names::new(prefix),
+        &limits,
+    )?)
+}
+
+/// Answers every request at once with an empty ok header (no engine).
+fn rr_echo<S: iceoryx2::service::Service>(prefix: &str) -> anyhow::Result<()> {
+    let node = raw_node::<S>("planner-bench-echo")?;
+    rr_serve(&rr_service(&node, prefix)?)
+}
+
+fn rr_serve<S: iceoryx2::service::Service>(
+    service: &ReqRespFactory<S, PlanRequest, (), [Waypoint], PlanResponseHeader>,
+) -> anyhow::Result<()> {
     let server = service
         .server_builder()
-        .initial_max_slice_len(services::PATH_SLICE_CAPACITY)
+        .initial_max_slice_len(planner_ipc::services::PATH_SLICE_CAPACITY)
         .create()
-        .map_err(|e| anyhow::anyhow!("{e:?}"))?;
+        .map_err(ice)?;
     let began = Instant::now();
     while began.elapsed() < Duration::from_secs(60) {
-        if let Some(active) = server.receive().map_err(|e| anyhow::anyhow!("{e:?}"))? {
+        if let Some(active) = server.receive().map_err(ice)? {
             let header = PlanResponseHeader {
                 request_id: active.payload().request_id,
                 ..Default::default()
             };
             let mut r = active
                 .loan_slice_uninit(0)
-                .map_err(|e| anyhow::anyhow!("{e:?}"))?
-                .write_from_fn(|_| unreachable!());
+                .map_err(ice)?
+                .write_from_fn(|_| Waypoint::default());
             *r.user_header_mut() = header;
-            r.send().map_err(|e| anyhow::anyhow!("{e:?}"))?;
+            r.send().map_err(ice)?;
         } else {
             std::hint::spin_loop();
         }
@@ -422,33 +521,218 @@ fn ipc_echo(prefix: &str) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// `planner-bench raw [N]`: the bare iceoryx2 round trip (busy client, echo server).
-fn raw_floor(iterations: usize) -> anyhow::Result<()> {
-    let prefix = format!("bench-raw-{}", std::process::id());
-    let _echo = Kill(
-        Command::new(std::env::current_exe()?)
-            .args(["ipc-echo", &prefix])
-            .spawn()?,
-    );
-    std::thread::sleep(Duration::from_millis(300));
-    let mut client = PlannerClient::new(ClientConfig {
-        names: Names::new(&prefix),
-        wait: Wait::Busy,
-        notify_server: false,
-        node_name: "planner-bench-raw".into(),
-        ..ClientConfig::default()
-    })?;
-    let request = PlanRequest::new((1, 1), [0, 0], [3, 2], Algorithm::AStar);
-    let mut rt = Vec::new();
-    for _ in 0..iterations {
-        let began = Instant::now();
-        client.plan_raw(&request, Duration::from_secs(5))?;
-        rt.push(began.elapsed().as_secs_f64() * 1e6);
+fn rr_ping<S: iceoryx2::service::Service>(
+    prefix: &str,
+    iterations: usize,
+) -> anyhow::Result<Vec<f64>> {
+    let node = raw_node::<S>("planner-bench-rr")?;
+    let service = rr_service(&node, prefix)?;
+    let client = service.client_builder().create().map_err(ice)?;
+    let mut request = PlanRequest::new((1, 1), [0, 0], [3, 2], Algorithm::AStar);
+    let began = Instant::now();
+    while service.dynamic_config().number_of_servers() == 0 {
+        anyhow::ensure!(began.elapsed() < Duration::from_secs(10), "no echo server");
+        std::thread::sleep(Duration::from_millis(5));
     }
-    println!(
-        "bare iceoryx2 round trip (echo server, busy): p50 {:.2} us, p99 {:.2} us",
-        percentile(&mut rt, 0.5),
-        percentile(&mut rt, 0.99)
+    let mut rt = Vec::new();
+    for i in 0..iterations + iterations / 10 {
+        request.request_id = i as u64;
+        let began = Instant::now();
+        let pending = client.send_copy(request).map_err(ice)?;
+        loop {
+            if let Some(r) = pending.receive().map_err(ice)? {
+                anyhow::ensure!(r.user_header().request_id == request.request_id);
+                break;
+            }
+            anyhow::ensure!(began.elapsed() < Duration::from_secs(5), "no answer");
+            std::hint::spin_loop();
+        }
+        drop(pending);
+        if i >= iterations / 10 {
+            rt.push(began.elapsed().as_secs_f64() * 1e6);
+        }
+    }
+    Ok(rt)
+}
+
+/// The ping and pong services of the publish-subscribe floor (the request type both ways,
+/// so that the same bytes travel as in a plan request).
+#[allow(clippy::type_complexity)]
+fn ps_services<S: iceoryx2::service::Service>(
+    node: &Node<S>,
+    prefix: &str,
+) -> anyhow::Result<(
+    PubSubFactory<S, PlanRequest, ()>,
+    PubSubFactory<S, PlanRequest, ()>,
+)> {
+    let open = |suffix: &str| {
+        node.service_builder(&raw_name(prefix, suffix)?)
+            .publish_subscribe::<PlanRequest>()
+            .open_or_create()
+            .map_err(ice)
+    };
+    Ok((open("ping")?, open("pong")?))
+}
+
+/// Publishes every ping back as a pong.
+fn ps_echo<S: iceoryx2::service::Service>(prefix: &str) -> anyhow::Result<()> {
+    let node = raw_node::<S>("planner-bench-ps-echo")?;
+    let (ping, pong) = ps_services(&node, prefix)?;
+    let subscriber = ping.subscriber_builder().create().map_err(ice)?;
+    let publisher = pong.publisher_builder().create().map_err(ice)?;
+    let began = Instant::now();
+    while began.elapsed() < Duration::from_secs(60) {
+        if let Some(sample) = subscriber.receive().map_err(ice)? {
+            let value = *sample.payload();
+            drop(sample);
+            publisher.send_copy(value).map_err(ice)?;
+        } else {
+            std::hint::spin_loop();
+        }
+    }
+    Ok(())
+}
+
+fn ps_ping<S: iceoryx2::service::Service>(
+    prefix: &str,
+    iterations: usize,
+) -> anyhow::Result<Vec<f64>> {
+    let node = raw_node::<S>("planner-bench-ps")?;
+    let (ping, pong) = ps_services(&node, prefix)?;
+    let publisher = ping.publisher_builder().create().map_err(ice)?;
+    let subscriber = pong.subscriber_builder().create().map_err(ice)?;
+    let began = Instant::now();
+    while ping.dynamic_config().number_of_subscribers() == 0
+        || pong.dynamic_config().number_of_publishers() == 0
+    {
+        anyhow::ensure!(began.elapsed() < Duration::from_secs(10), "no echo");
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    let mut request = PlanRequest::new((1, 1), [0, 0], [3, 2], Algorithm::AStar);
+    let mut rt = Vec::new();
+    for i in 0..iterations + iterations / 10 {
+        request.request_id = i as u64;
+        let began = Instant::now();
+        publisher.send_copy(request).map_err(ice)?;
+        loop {
+            match subscriber.receive().map_err(ice)? {
+                Some(s) if s.payload().request_id == request.request_id => break,
+                Some(_) => {}
+                None => {
+                    anyhow::ensure!(began.elapsed() < Duration::from_secs(5), "no pong");
+                    std::hint::spin_loop();
+                }
+            }
+        }
+        if i >= iterations / 10 {
+            rt.push(began.elapsed().as_secs_f64() * 1e6);
+        }
+    }
+    Ok(rt)
+}
+
+fn atomic_ping(iterations: usize) -> Vec<f64> {
+    use std::sync::Arc;
+    use std::sync::atomic::{AtomicU64, Ordering};
+    let ball = Arc::new(AtomicU64::new(0));
+    let other = ball.clone();
+    let rounds = (iterations + iterations / 10) as u64;
+    let echo = std::thread::spawn(move || {
+        for i in 0..rounds {
+            while other.load(Ordering::Acquire) != 2 * i + 1 {
+                std::hint::spin_loop();
+            }
+            other.store(2 * i + 2, Ordering::Release);
+        }
+    });
+    let mut rt = Vec::new();
+    for i in 0..rounds {
+        let began = Instant::now();
+        ball.store(2 * i + 1, Ordering::Release);
+        while ball.load(Ordering::Acquire) != 2 * i + 2 {
+            std::hint::spin_loop();
+        }
+        if i >= rounds / 11 {
+            rt.push(began.elapsed().as_secs_f64() * 1e6);
+        }
+    }
+    let _ = echo.join();
+    rt
+}
+
+/// `planner-bench raw [N]`: the floors under the plan round trip, busy polling on both
+/// sides, each against an echo process: the plan client library against a bare
+/// request-response echo server, bare iceoryx2 request-response and a pair of
+/// publish-subscribe services (ping and pong), each with thread-safe and single-threaded
+/// ports, and two threads bouncing an atomic (what the cores alone cost).
+fn raw_floor(iterations: usize) -> anyhow::Result<()> {
+    let exe = std::env::current_exe()?;
+    let mut case = 0;
+    let mut measure = |pattern: &str, flavour: Flavour| -> anyhow::Result<Vec<f64>> {
+        case += 1;
+        let prefix = format!("bench-raw-{}-{case}", std::process::id());
+        let far = if pattern == "client" { "plan" } else { pattern };
+        let _echo = Kill(
+            Command::new(&exe)
+                .args(["echo", far, flavour.name(), &prefix])
+                .spawn()?,
+        );
+        match (pattern, flavour) {
+            ("rr", Flavour::ThreadSafe) => rr_ping::<ipc_threadsafe::Service>(&prefix, iterations),
+            ("rr", Flavour::Local) => rr_ping::<ipc::Service>(&prefix, iterations),
+            ("ps", Flavour::ThreadSafe) => ps_ping::<ipc_threadsafe::Service>(&prefix, iterations),
+            ("ps", Flavour::Local) => ps_ping::<ipc::Service>(&prefix, iterations),
+            ("client", _) => {
+                // The client library on the plan service, against the bare echo server.
+                let mut client = PlannerClient::new(ClientConfig {
+                    names: Names::new(&prefix),
+                    wait: Wait::Busy,
+                    notify_server: false,
+                    node_name: "planner-bench-raw".into(),
+                    ..ClientConfig::default()
+                })?;
+                let request = PlanRequest::new((1, 1), [0, 0], [3, 2], Algorithm::AStar);
+                let began = Instant::now();
+                while matches!(
+                    client.plan_raw(&request, Duration::from_secs(5)),
+                    Err(ClientError::NoServer)
+                ) {
+                    anyhow::ensure!(began.elapsed() < Duration::from_secs(10), "no echo server");
+                    std::thread::sleep(Duration::from_millis(5));
+                }
+                let mut rt = Vec::new();
+                for i in 0..iterations + iterations / 10 {
+                    let began = Instant::now();
+                    client.plan_raw(&request, Duration::from_secs(5))?;
+                    if i >= iterations / 10 {
+                        rt.push(began.elapsed().as_secs_f64() * 1e6);
+                    }
+                }
+                Ok(rt)
+            }
+            _ => unreachable!(),
+        }
+    };
+    let print = |what: &str, rt: &mut [f64]| {
+        println!(
+            "{what:<52} p50 {:>6.2} us   p99 {:>7.2} us",
+            percentile(rt, 0.5),
+            percentile(rt, 0.99)
+        );
+    };
+    print(
+        "plan client library -> bare echo server (local)",
+        &mut measure("client", Flavour::Local)?,
+    );
+    for flavour in [Flavour::ThreadSafe, Flavour::Local] {
+        let what = format!("bare request-response echo ({})", flavour.name());
+        print(&what, &mut measure("rr", flavour)?);
+        let what = format!("bare publish-subscribe ping/pong ({})", flavour.name());
+        print(&what, &mut measure("ps", flavour)?);
+    }
+    print(
+        "two threads bouncing an atomic",
+        &mut atomic_ping(iterations),
     );
     Ok(())
 }
