@@ -56,7 +56,9 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
-use super::{MOVES, SearchStats, allowed_moves, check_endpoints, connectivity, octile_xy};
+use super::{
+    HeapSlots, MOVES, SearchStats, allowed_moves, check_endpoints, connectivity, octile_xy,
+};
 use crate::error::PlanError;
 use crate::geometry::Cell;
 use crate::grid::GridRef;
@@ -322,63 +324,6 @@ impl<'n> Heap<'n> {
         Some((cell, top.g()))
     }
 
-    #[inline]
-    fn place(&mut self, pos: usize, slot: OpenSlot) {
-        self.open[pos] = slot;
-        self.nodes[(slot.cell_dir >> 3) as usize].0 = pos as u32 + OPEN_BASE;
-    }
-
-    /// Moves `slot`, to be stored at `pos`, up to its place.
-    fn sift_up(&mut self, mut pos: usize, slot: OpenSlot) {
-        let key = slot.key();
-        while pos > 0 {
-            let parent_pos = (pos - 1) / 2;
-            let parent = self.open[parent_pos];
-            if key >= parent.key() {
-                break;
-            }
-            self.place(pos, parent);
-            pos = parent_pos;
-        }
-        self.place(pos, slot);
-    }
-
-    /// Moves `slot`, to be stored at `pos`, down to its place.
-    ///
-    /// Floyd's variant: the hole first runs down the path of least children to the bottom
-    /// (one comparison per level, not two), then `slot` climbs back while its parent is not
-    /// less than it. Along that path the keys never decrease, so `slot` ends exactly where
-    /// the textbook sift-down puts it, and the heap, hence the order of expansion, is the
-    /// same.
-    fn sift_down(&mut self, mut pos: usize, slot: OpenSlot) {
-        let start = pos;
-        let key = slot.key();
-        loop {
-            let left = 2 * pos + 1;
-            if left >= self.len {
-                break;
-            }
-            // Which child is less is a coin toss for the branch predictor: select it by
-            // arithmetic on the index, not by a branch.
-            let right = left + 1;
-            let take_right = right < self.len && self.open[right].key() < self.open[left].key();
-            let child = left + take_right as usize;
-            let child_slot = self.open[child];
-            self.place(pos, child_slot);
-            pos = child;
-        }
-        while pos > start {
-            let parent_pos = (pos - 1) / 2;
-            let parent = self.open[parent_pos];
-            if parent.key() < key {
-                break;
-            }
-            self.place(pos, parent);
-            pos = parent_pos;
-        }
-        self.place(pos, slot);
-    }
-
     /// Writes the path from `start` to `goal` (closed) into `out`, start first, by walking
     /// the stored directions back from `goal`.
     fn write_path(
@@ -410,6 +355,31 @@ impl<'n> Heap<'n> {
         }
         out.reverse();
         Ok(())
+    }
+}
+
+impl HeapSlots for Heap<'_> {
+    type Slot = OpenSlot;
+
+    #[inline]
+    fn heap_len(&self) -> usize {
+        self.len
+    }
+
+    #[inline]
+    fn slot(&self, pos: usize) -> OpenSlot {
+        self.open[pos]
+    }
+
+    #[inline]
+    fn place(&mut self, pos: usize, slot: OpenSlot) {
+        self.open[pos] = slot;
+        self.nodes[(slot.cell_dir >> 3) as usize].0 = pos as u32 + OPEN_BASE;
+    }
+
+    #[inline]
+    fn less(a: &OpenSlot, b: &OpenSlot) -> bool {
+        a.key() < b.key()
     }
 }
 

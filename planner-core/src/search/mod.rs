@@ -212,7 +212,7 @@ pub(crate) struct Open<'n> {
 /// like the values (and `+0.0` is the only zero that arises), so `key(a) < key(b)` is
 /// exactly `a.f < b.f || (a.f == b.f && a.g > b.g)`.
 #[derive(Clone, Copy)]
-struct Entry {
+pub(crate) struct Entry {
     key: u64,
     cell: u32,
 }
@@ -291,7 +291,7 @@ impl<'n> Open<'n> {
         let top = self.nodes[0].slot_cell as usize;
         self.len -= 1;
         if self.len > 0 {
-            let last = self.entry(self.len);
+            let last = self.slot(self.len);
             self.sift_down(0, last);
         }
         self.nodes[top].heap_pos = CLOSED;
@@ -299,73 +299,6 @@ impl<'n> Open<'n> {
         let n = self.nodes.len();
         self.nodes[n - self.closed].slot_cell = top as u32;
         Some(top)
-    }
-
-    #[inline]
-    fn entry(&self, pos: usize) -> Entry {
-        let slot = &self.nodes[pos];
-        Entry {
-            key: pack(slot.slot_f, slot.slot_g),
-            cell: slot.slot_cell,
-        }
-    }
-
-    #[inline]
-    fn place(&mut self, pos: usize, e: Entry) {
-        let slot = &mut self.nodes[pos];
-        slot.slot_f = (e.key >> 32) as u32;
-        slot.slot_g = e.key as u32;
-        slot.slot_cell = e.cell;
-        self.nodes[e.cell as usize].heap_pos = pos as u32 + OPEN_BASE;
-    }
-
-    /// Moves `e`, to be stored at `pos`, up to its place.
-    fn sift_up(&mut self, mut pos: usize, e: Entry) {
-        while pos > 0 {
-            let parent_pos = (pos - 1) / 2;
-            let parent = self.entry(parent_pos);
-            if !e.less(&parent) {
-                break;
-            }
-            self.place(pos, parent);
-            pos = parent_pos;
-        }
-        self.place(pos, e);
-    }
-
-    /// Moves `e`, to be stored at `pos`, down to its place.
-    ///
-    /// Floyd's variant: the hole first runs down the path of least children to the bottom
-    /// (one comparison per level, not two), then `e` climbs back while its parent is not
-    /// less than it. Along that path the keys never decrease, so `e` ends exactly where
-    /// the textbook sift-down (stop at the first child not less than `e`) puts it, and the
-    /// heap, hence the order of expansion, is the same.
-    fn sift_down(&mut self, mut pos: usize, e: Entry) {
-        let start = pos;
-        loop {
-            let left = 2 * pos + 1;
-            if left >= self.len {
-                break;
-            }
-            // Which child is less is a coin toss for the branch predictor: select it by
-            // arithmetic on the index, not by a branch.
-            let right = left + 1;
-            let take_right = right < self.len && self.entry(right).less(&self.entry(left));
-            let child = left + take_right as usize;
-            let child_entry = self.entry(child);
-            self.place(pos, child_entry);
-            pos = child;
-        }
-        while pos > start {
-            let parent_pos = (pos - 1) / 2;
-            let parent = self.entry(parent_pos);
-            if parent.less(&e) {
-                break;
-            }
-            self.place(pos, parent);
-            pos = parent_pos;
-        }
-        self.place(pos, e);
     }
 
     /// Writes the parent chain from `goal` back to `start` into `out`, start first.
@@ -393,6 +326,106 @@ impl<'n> Open<'n> {
         }
         out.reverse();
         Ok(())
+    }
+}
+
+/// A binary min-heap whose slots live in caller storage: Theta* keeps them in its node
+/// array, A* in a separate open list, and both record a cell's heap position on every
+/// move. The sift algorithms are shared here; `place` does the bookkeeping.
+pub(crate) trait HeapSlots {
+    /// What a slot holds (the cell and its key).
+    type Slot: Copy;
+    /// Slots in use.
+    fn heap_len(&self) -> usize;
+    /// The slot at `pos`.
+    fn slot(&self, pos: usize) -> Self::Slot;
+    /// Stores `slot` at `pos` (and records the position for its cell).
+    fn place(&mut self, pos: usize, slot: Self::Slot);
+    /// Heap order.
+    fn less(a: &Self::Slot, b: &Self::Slot) -> bool;
+
+    /// Moves `slot`, to be stored at `pos`, up to its place.
+    #[inline]
+    fn sift_up(&mut self, mut pos: usize, slot: Self::Slot) {
+        while pos > 0 {
+            let parent_pos = (pos - 1) / 2;
+            let parent = self.slot(parent_pos);
+            if !Self::less(&slot, &parent) {
+                break;
+            }
+            self.place(pos, parent);
+            pos = parent_pos;
+        }
+        self.place(pos, slot);
+    }
+
+    /// Moves `slot`, to be stored at `pos`, down to its place.
+    ///
+    /// Floyd's variant: the hole first runs down the path of least children to the bottom
+    /// (one comparison per level, not two), then `slot` climbs back while its parent is not
+    /// less than it. Along that path the keys never decrease, so `slot` ends exactly where
+    /// the textbook sift-down (stop at the first child not less than `slot`) puts it, and
+    /// the heap, hence the order of expansion, is the same.
+    #[inline]
+    fn sift_down(&mut self, mut pos: usize, slot: Self::Slot) {
+        let start = pos;
+        let len = self.heap_len();
+        loop {
+            let left = 2 * pos + 1;
+            if left >= len {
+                break;
+            }
+            // Which child is less is a coin toss for the branch predictor: select it by
+            // arithmetic on the index, not by a branch.
+            let right = left + 1;
+            let take_right = right < len && Self::less(&self.slot(right), &self.slot(left));
+            let child = left + take_right as usize;
+            let child_slot = self.slot(child);
+            self.place(pos, child_slot);
+            pos = child;
+        }
+        while pos > start {
+            let parent_pos = (pos - 1) / 2;
+            let parent = self.slot(parent_pos);
+            if Self::less(&parent, &slot) {
+                break;
+            }
+            self.place(pos, parent);
+            pos = parent_pos;
+        }
+        self.place(pos, slot);
+    }
+}
+
+impl HeapSlots for Open<'_> {
+    type Slot = Entry;
+
+    #[inline]
+    fn heap_len(&self) -> usize {
+        self.len
+    }
+
+    #[inline]
+    fn slot(&self, pos: usize) -> Entry {
+        let slot = &self.nodes[pos];
+        Entry {
+            key: pack(slot.slot_f, slot.slot_g),
+            cell: slot.slot_cell,
+        }
+    }
+
+    #[inline]
+    fn place(&mut self, pos: usize, e: Entry) {
+        let slot = &mut self.nodes[pos];
+        slot.slot_f = (e.key >> 32) as u32;
+        slot.slot_g = e.key as u32;
+        slot.slot_cell = e.cell;
+        self.nodes[e.cell as usize].heap_pos = pos as u32 + OPEN_BASE;
+    }
+
+    #[inline]
+    fn less(a: &Entry, b: &Entry) -> bool {
+        a.less(b)
     }
 }
 
