@@ -28,6 +28,10 @@ pub trait Encoding {
     fn bounds(&self, i: usize) -> (f32, f32);
 
     /// The cost of `x`: the decoded path's length, plus penalties if it is infeasible.
+    ///
+    /// It must depend on `x` alone (the `&mut self` is for scratch and hints, never for the
+    /// value): [`Costs`] tells optimizers the cost is pure, so they may compute it again
+    /// later instead of keeping it ([`Objective::pure`](crate::optim::Objective::pure)).
     fn cost(&mut self, x: &[f32]) -> f32;
 
     /// `cost(x)` when it is below `bound`, otherwise any value `>= bound`
