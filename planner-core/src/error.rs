@@ -1,8 +1,8 @@
 //! Error types, one small enum per operation.
 //!
 //! [`PlanError`] follows the result codes of Nav2's `ComputePathToPose` action so that a
-//! fleet manager can map them one to one; [`MapError`] and [`InflateError`] belong to map
-//! loading and preparation.
+//! fleet manager can map them one to one; [`MapError`] and [`GridError`] belong to map
+//! loading, editing and inflation.
 
 use core::fmt;
 

@@ -5,7 +5,7 @@
 //! goal`. Its length follows the paper's own 10 x 10 value (SPEC section 3):
 //! `L = |x_0 - r_start| + sum_j sqrt((x_j - x_{j-1})^2 + 1) + |r_goal - x_last|`, rows rounded
 //! and clamped to the map. Every segment is checked under the collision rule; each blocked
-//! one adds [`infeasible_penalty`](super::infeasible_penalty). Only x-monotone paths can be
+//! one adds [`infeasible_penalty`]. Only x-monotone paths can be
 //! represented, so this is a reproduction mode, not the general planner.
 
 use super::{Encoding, infeasible_penalty};

@@ -1,7 +1,7 @@
 //! Path encodings: how a point of the optimizer's box `[lb, ub]^D` becomes a path.
 //!
 //! The papers vary exactly this, so it is a trait ([`Encoding`]):
-//! - [`column`]: seed 000's column encoding (one row per map column; x-monotone paths only),
+//! - [`column`](mod@column): seed 000's column encoding (one row per map column; x-monotone paths only),
 //!   a reproduction mode;
 //! - [`walk`]: seed 003's 8-connected cell walk without revisits, a reproduction mode (its
 //!   looser corner rule behind an option);

@@ -5,7 +5,7 @@
 //! uniform draw of a roulette wheel whose weights favour neighbours closer to the goal
 //! (`exp(-beta (h - h_min))`, octile `h`): the optimizer steers the draws, the bias keeps
 //! random walks from wandering off. A walk that dead-ends or runs out of steps is infeasible:
-//! its cost is [`infeasible_penalty`](super::infeasible_penalty) plus its length plus the
+//! its cost is [`infeasible_penalty`] plus its length plus the
 //! octile distance still to go, so that the optimizer can still rank infeasible walks.
 //!
 //! Corner rule: [`CornerRule::Strict`] is SPEC's (no corner cutting); [`CornerRule::Loose`] is

@@ -147,8 +147,8 @@ pub enum GuideKind {
     AStar,
     /// A route the caller has written into [`Workspace::guide`] before calling [`plan`],
     /// normally the shortest any-angle path of the visibility graph
-    /// ([`VisibilityGraph::route`](crate::search::visibility::VisibilityGraph::route), feature
-    /// `alloc`; [`owned::HostPlanner`] does it). It is checked (from `start` to `goal`, every
+    /// (`search::visibility::VisibilityGraph::route`, feature `alloc`;
+    /// `planner::owned::HostPlanner` does it). It is checked (from `start` to `goal`, every
     /// segment clear) and resampled; the A* route is used instead when it fails the check.
     Visibility,
 }

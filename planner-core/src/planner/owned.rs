@@ -1,7 +1,7 @@
 //! Heap-allocated scratch for hosts (feature `alloc`): one [`HostPlanner`] serves every
 //! planner of the crate on maps of any size, growing its buffers when a bigger map comes.
 //!
-//! Firmware uses [`plan`](super::plan), [`aco::plan`](super::aco::plan) and the search
+//! Firmware uses [`plan`], [`aco::plan`] and the search
 //! functions directly with static buffers; this is the convenience layer for the CLI and the
 //! planner service.
 

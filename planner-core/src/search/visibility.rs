@@ -23,7 +23,7 @@
 //! points are reflex vertices of the domain (Lozano-Pérez & Wesley 1979): the lattice points
 //! `(i + 1/2, j + 1/2)` with exactly one of the four cells around them blocked (convex
 //! obstacle corners), and the pinch points (two diagonal cells blocked). Two vertices are
-//! joined when the open segment between them avoids `int B` (see [`visible`], exact integer
+//! joined when the open segment between them avoids `int B` (see `visible`, exact integer
 //! arithmetic). Edges are kept only when they are *tangent* at each obstacle corner they end
 //! at (the reduced visibility graph): if the segment's line entered the corner's blocked cell,
 //! the bend could be shortcut. Each query adds the start and goal edges and runs A*

@@ -1,6 +1,6 @@
 //! Plane-by-plane discrete ant colony (seed 001's ACO baseline).
 //!
-//! Each interior plane `j` of the [`PlaneEncoding`] is discretised into `nodes` lateral
+//! Each interior plane `j` of the [`PlaneEncoding`](super::planes::PlaneEncoding) is discretised into `nodes` lateral
 //! positions spread evenly over its bounds. An ant walks from the start through one node per
 //! plane to the goal. From point `p`, node `c` of the next plane is chosen with weight
 //! `tau^alpha eta^beta`, `eta = 1 / (|p c| + |c G| + intrusion)` (3D distances on the terrain,
