@@ -97,12 +97,10 @@ struct Waker<S: Service> {
 pub fn run(config: &ServerConfig, shutdown: &AtomicBool) -> anyhow::Result<()> {
     if config.workers > 1 {
         // Active requests cross to the workers: thread-safe ports.
-        serve_ports::<Svc>(config, shutdown, spawn_workers)
+        serve_ports::<Svc>(config, shutdown, Some(spawn_workers))
     } else {
         // One thread owns everything: single-threaded ports, no mutex per port call.
-        serve_ports::<LocalSvc>(config, shutdown, |_, _, _| {
-            unreachable!("no workers when planning inline")
-        })
+        serve_ports::<LocalSvc>(config, shutdown, None)
     }
 }
 
@@ -122,16 +120,16 @@ fn spawn_workers(
         .collect()
 }
 
-/// The serving loop on ports of flavour `S`; `spawn` starts the workers (only called when
-/// `config.workers > 1`).
+/// Starts `workers` planning threads on the job queue.
+type SpawnWorkers<S> =
+    fn(&Arc<Shared<S>>, &Jobs<S>, usize) -> std::io::Result<Vec<std::thread::JoinHandle<()>>>;
+
+/// The serving loop on ports of flavour `S`; with `spawn`, `config.workers` threads plan,
+/// without it the port thread plans each request inline.
 fn serve_ports<S: Service>(
     config: &ServerConfig,
     shutdown: &AtomicBool,
-    spawn: impl FnOnce(
-        &Arc<Shared<S>>,
-        &Jobs<S>,
-        usize,
-    ) -> std::io::Result<Vec<std::thread::JoinHandle<()>>>,
+    spawn: Option<SpawnWorkers<S>>,
 ) -> anyhow::Result<()> {
     let node = services::node::<S>("planner-server")?;
     let cleaned = services::cleanup_dead_nodes(&node);
@@ -172,14 +170,13 @@ fn serve_ports<S: Service>(
         cancelled: AtomicU64::new(0),
     });
 
-    let workers = config.workers.max(1);
     let (tx, rx) = mpsc::channel::<(Active<S>, Option<Instant>)>();
     let rx = Arc::new(Mutex::new(rx));
-    let handles = if workers > 1 {
-        spawn(&shared, &rx, workers)?
-    } else {
-        Vec::new()
+    let handles = match spawn {
+        Some(spawn) => spawn(&shared, &rx, config.workers)?,
+        None => Vec::new(),
     };
+    let workers = handles.len().max(1);
     let mut scratch = Scratch::default();
     log::info!("planner-server ready");
 
