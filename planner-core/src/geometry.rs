@@ -330,6 +330,96 @@ fn centre_cell(p: Point) -> Option<Cell> {
     (integral(p.x) && integral(p.y)).then(|| Cell::new(p.x as u16, p.y as u16))
 }
 
+/// The least margin [`hull_is_clear`] accepts for a map of this size: 1/64 cell, or more on
+/// maps so large that `f32` coordinates carry fewer than about 128 ulps in it. Far above
+/// [`TOUCH_EPS`] and the rounding of [`segment_is_clear`], so whatever this margin proves
+/// clear, that check finds clear too.
+pub fn hull_margin(grid: GridRef<'_>) -> f32 {
+    (1.0 / 64.0f32).max(grid.width().max(grid.height()) as f32 / 65_536.0)
+}
+
+/// Whether the convex hull of `points` stays farther than `margin` from every blocked cell
+/// and from the map's edge.
+///
+/// Conservative: `true` proves that every segment between two points of the hull keeps
+/// that margin (the union of those segments is the hull), `false` proves nothing. With a
+/// margin of at least [`hull_margin`], every such segment passes [`segment_is_clear`]. It
+/// lets a caller settle a whole family of segments with one test (the corridor encoding
+/// caches one per pair of waypoint intervals).
+///
+/// ```
+/// use planner_core::{geometry::{hull_is_clear, hull_margin, Point}, grid::{words_for, Grid}};
+///
+/// let grid: Grid<{ words_for(5, 3) }> = Grid::parse_rows(b".....\n..@..\n.....\n")?;
+/// let m = hull_margin(grid.view());
+/// let p = |x, y| Point::new(x, y);
+/// // The band along the top row misses the obstacle; one that crosses row 1 does not.
+/// assert!(hull_is_clear(grid.view(), &[p(0.0, 0.0), p(0.0, 0.4), p(4.0, 0.0), p(4.0, 0.4)], m));
+/// assert!(!hull_is_clear(grid.view(), &[p(0.0, 0.0), p(0.0, 2.0), p(4.0, 0.0), p(4.0, 0.4)], m));
+/// # Ok::<(), planner_core::error::MapError>(())
+/// ```
+pub fn hull_is_clear(grid: GridRef<'_>, points: &[Point; 4], margin: f32) -> bool {
+    if !points.iter().all(|p| p.is_finite()) || margin.is_nan() || margin < 0.0 {
+        return false;
+    }
+    let (mut x0, mut y0, mut x1, mut y1) = (points[0].x, points[0].y, points[0].x, points[0].y);
+    for p in &points[1..] {
+        (x0, x1) = (x0.min(p.x), x1.max(p.x));
+        (y0, y1) = (y0.min(p.y), y1.max(p.y));
+    }
+    if x0 - margin <= -0.5
+        || y0 - margin <= -0.5
+        || x1 + margin >= grid.width() as f32 - 0.5
+        || y1 + margin >= grid.height() as f32 - 0.5
+    {
+        return false;
+    }
+    // Separating axes: the normals of every pair of points, a superset of the hull's edge
+    // normals; the cell's own axes are settled by the range of cells visited below. A gap
+    // along one unit axis bounds the Euclidean distance from below, hence conservative.
+    let mut axes = [(0.0f32, 0.0f32, 0.0f32, 0.0f32); 6];
+    let mut count = 0;
+    for i in 0..4 {
+        for j in i + 1..4 {
+            let (dx, dy) = (points[j].x - points[i].x, points[j].y - points[i].y);
+            let len = crate::math::sqrt(dx * dx + dy * dy);
+            if len <= 1e-6 {
+                continue;
+            }
+            let (nx, ny) = (-dy / len, dx / len);
+            let (mut lo, mut hi) = (f32::INFINITY, f32::NEG_INFINITY);
+            for p in points {
+                let d = p.x * nx + p.y * ny;
+                (lo, hi) = (lo.min(d), hi.max(d));
+            }
+            axes[count] = (nx, ny, lo - margin, hi + margin);
+            count += 1;
+        }
+    }
+    let axes = &axes[..count];
+    // Cells whose square comes within the margin of the bounding box.
+    let cx0 = crate::math::ceil_i(x0 - margin - 0.5);
+    let cx1 = crate::math::floor_i(x1 + margin + 0.5);
+    let cy0 = crate::math::ceil_i(y0 - margin - 0.5);
+    let cy1 = crate::math::floor_i(y1 + margin + 0.5);
+    for cy in cy0..=cy1 {
+        if !grid.row_run_blocked(cy, cx0, cx1) {
+            continue;
+        }
+        for cx in cx0..=cx1 {
+            if grid.is_blocked(cx, cy)
+                && !axes.iter().any(|&(nx, ny, lo, hi)| {
+                    let (c, r) = (cx as f32 * nx + cy as f32 * ny, 0.5 * (nx.abs() + ny.abs()));
+                    c - r > hi || c + r < lo
+                })
+            {
+                return false;
+            }
+        }
+    }
+    true
+}
+
 /// Distance from a segment to the nearest blocked cell (or the map's outside), capped at
 /// `max`. Zero when the segment touches a blocked cell.
 pub fn segment_clearance(grid: GridRef<'_>, a: Point, b: Point, max: f32) -> f32 {

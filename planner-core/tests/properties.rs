@@ -21,12 +21,17 @@
 //! - `line_of_sight_on_large_maps`: (d) the same oracle on sparse maps up to 300 x 300;
 //! - `segment_is_clear_is_conservative`: on fractional points, accepted => exactly clear,
 //!   and a segment a whole cell away from everything is accepted;
+//! - `hull_is_clear_proves_its_segments`: a hull accepted by `hull_is_clear` holds only
+//!   segments that `segment_is_clear` and the exact rule accept, and a hull a cell and a half
+//!   away from everything is accepted;
 //! - `segment_clearance_matches_oracle`: clearance = an `f64` segment/square distance oracle;
 //! - `inflation_matches_oracle`: `inflate_into` blocks exactly the cells closer than `r`;
 //! - `parser_*`: (g) no panic on arbitrary or mutated input, and generated maps round-trip.
 
 use planner_core::PlanError;
-use planner_core::geometry::{Cell, Point, line_of_sight, segment_clearance, segment_is_clear};
+use planner_core::geometry::{
+    Cell, Point, hull_is_clear, hull_margin, line_of_sight, segment_clearance, segment_is_clear,
+};
 use planner_core::grid::{Grid, words_for};
 use planner_core::path::{self, Path};
 use planner_core::search::astar::{AStarNode, OpenSlot, open_capacity};
@@ -635,6 +640,67 @@ proptest! {
             if far {
                 prop_assert!(fast, "{:?} -> {:?} is a cell away from everything", a, b);
             }
+        }
+    }
+
+    /// `hull_is_clear` is a proof: when it accepts the hull of four points, every segment
+    /// between two points of that hull (sampled on a dyadic lattice, so the exact rule can
+    /// judge it) passes `segment_is_clear` and the exact rule. And it is not absurdly strict:
+    /// a hull whose bounding box stays a cell and a half from every blocked cell and the
+    /// border is accepted.
+    #[test]
+    fn hull_is_clear_proves_its_segments(
+        m in map_strategy(),
+        base in (0i32..24 * 16, 0i32..24 * 16),
+        offsets in proptest::collection::vec((-48i32..=48, -48i32..=48), 3),
+        samples in proptest::collection::vec((0u8..=16, 0u8..=16, 0u8..=16), 24),
+    ) {
+        let grid = m.grid();
+        let g = grid.view();
+        // Points in 1/16 cell; samples mix them with weights in 1/16: the sampled points
+        // are multiples of 2^-12, exact in f32 and in the oracle's 2^-16 units.
+        let q = |(x, y): (i32, i32)| (f64::from(x) / 16.0, f64::from(y) / 16.0);
+        let b = q(base);
+        let pts: Vec<(f64, f64)> = core::iter::once(b)
+            .chain(offsets.iter().map(|&(dx, dy)| (b.0 + f64::from(dx) / 16.0, b.1 + f64::from(dy) / 16.0)))
+            .collect();
+        let hull: [Point; 4] = core::array::from_fn(|i| Point::new(pts[i].0 as f32, pts[i].1 as f32));
+        let accepted = hull_is_clear(g, &hull, hull_margin(g));
+        let lerp = |a: (f64, f64), b: (f64, f64), t: u8| {
+            let t = f64::from(t) / 16.0;
+            (a.0 + (b.0 - a.0) * t, a.1 + (b.1 - a.1) * t)
+        };
+        if accepted {
+            // A point of the hull: on a segment between a point of edge 0-1 and one of 2-3
+            // (those segments sweep the whole hull).
+            let point = |(t1, t2, t3): (u8, u8, u8)| {
+                let p = lerp(lerp(pts[0], pts[1], t1), lerp(pts[2], pts[3], t2), t3);
+                Point::new(p.0 as f32, p.1 as f32)
+            };
+            for w in samples.windows(2) {
+                let (a, b) = (point(w[0]), point(w[1]));
+                prop_assert!(segment_is_clear(g, a, b), "{:?}: {:?} -> {:?}", hull, a, b);
+                prop_assert!(segment_ok_frac(&m, a, b), "{:?}: {:?} -> {:?}", hull, a, b);
+            }
+            for i in 0..4 {
+                for j in i + 1..4 {
+                    prop_assert!(segment_ok_frac(&m, hull[i], hull[j]));
+                }
+            }
+        }
+        let (x0, x1) = pts.iter().fold((f64::MAX, f64::MIN), |(lo, hi), p| (lo.min(p.0), hi.max(p.0)));
+        let (y0, y1) = pts.iter().fold((f64::MAX, f64::MIN), |(lo, hi), p| (lo.min(p.1), hi.max(p.1)));
+        // Cells whose square comes within 1.5 of the box: centres within 2 of it.
+        let cells = |lo: f64, hi: f64| (lo - 2.0).floor() as i64..=(hi + 2.0).ceil() as i64;
+        let far = cells(y0, y1).all(|y| {
+            cells(x0, x1).all(|x| {
+                let gap_x = (x as f64 - 0.5 - x1).max(x0 - (x as f64 + 0.5)).max(0.0);
+                let gap_y = (y as f64 - 0.5 - y1).max(y0 - (y as f64 + 0.5)).max(0.0);
+                !m.blocked(x, y) || gap_x.max(gap_y) >= 1.5
+            })
+        });
+        if far {
+            prop_assert!(accepted, "{:?} is a cell and a half away from everything", hull);
         }
     }
 

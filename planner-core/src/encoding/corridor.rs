@@ -19,7 +19,7 @@
 
 use super::Encoding;
 use crate::error::PlanError;
-use crate::geometry::{Point, segment_is_clear};
+use crate::geometry::{Point, hull_is_clear, hull_margin, segment_is_clear};
 use crate::grid::GridRef;
 use crate::path::PathView;
 
@@ -38,6 +38,11 @@ pub struct Station {
     pos: f32,
     /// Guide length from this station to the next.
     arc_to_next: f32,
+    /// The leg to the next station, cached per pair of waypoint intervals (bit
+    /// `BUCKETS * i + j` for interval `i` here and `j` there): whether the pair was tested...
+    tested: u64,
+    /// ...and whether every leg between the two intervals proved clear.
+    clear: u64,
 }
 
 impl Station {
@@ -49,7 +54,24 @@ impl Station {
         neg: 0.0,
         pos: 0.0,
         arc_to_next: 0.0,
+        tested: 0,
+        clear: 0,
     };
+}
+
+/// Intervals per station in the leg cache: the offset range `[-1, 1]` in 8 equal parts, so
+/// that the 8 x 8 interval pairs of a leg fit in one `u64`.
+const BUCKETS: usize = 8;
+
+/// The cache interval of an offset in `[-1, 1]`.
+fn bucket(v: f32) -> usize {
+    (((v + 1.0) * (BUCKETS as f32 / 2.0)) as usize).min(BUCKETS - 1)
+}
+
+/// The offsets that bound cache interval `i`.
+fn interval(i: usize) -> (f32, f32) {
+    let w = 2.0 / BUCKETS as f32;
+    (i as f32 * w - 1.0, (i + 1) as f32 * w - 1.0)
 }
 
 /// Step of the extent scan along a normal, in cells.
@@ -66,12 +88,23 @@ const EXTENT_BISECTIONS: u32 = 9;
 const STRAIGHT_SHRINK: f32 = 1.0 - 1.0 / 1_048_576.0;
 
 /// The corridor encoding over a guide route.
+///
+/// Most legs of a candidate run through open floor, yet an exact check walks every cell
+/// strip they cross. So each leg caches, per pair of waypoint intervals (an eighth of the
+/// offset range at each end), whether the convex hull of the two intervals (the union of all
+/// legs between them) keeps [`hull_margin`] clear of obstacles: if it does, every leg in it
+/// is clear without a walk (see [`hull_is_clear`]); pairs that touch an obstacle fall back to
+/// the exact check. The cache only skips work: costs and decodings are bit for bit those of
+/// the exact check alone.
 #[derive(Debug)]
 pub struct CorridorEncoding<'a> {
     grid: GridRef<'a>,
     guide: &'a [Point],
-    /// Stations `0..=K+1`: the start, `K` movable ones, the goal.
-    stations: &'a [Station],
+    /// Stations `0..=K+1`: the start, `K` movable ones, the goal; each also holds the leg
+    /// cache of its leg to the next.
+    stations: &'a mut [Station],
+    /// Clearance that a cached interval pair must keep ([`hull_margin`]).
+    margin: f32,
     /// Legs that needed a repair in an earlier exact pass of `cost_below` (bit `s` for leg
     /// `s < 128`): checked first, since the swarm keeps probing the same corners.
     hot: u128,
@@ -215,7 +248,8 @@ impl<'a> CorridorEncoding<'a> {
         Ok(CorridorEncoding {
             grid,
             guide,
-            stations: &stations[..k + 2],
+            stations: &mut stations[..k + 2],
+            margin: hull_margin(grid),
             hot: 0,
             decisive: 0,
         })
@@ -236,19 +270,75 @@ impl<'a> CorridorEncoding<'a> {
             + self.stations[s + 1].point.distance(b)
     }
 
-    fn waypoint(&self, s: usize, x: &[f32]) -> Point {
+    /// The offset in `[-1, 1]` of station `s` (0 at the fixed ends and for a non-finite
+    /// variable).
+    fn offset(&self, s: usize, x: &[f32]) -> f32 {
+        if s == 0 || s + 1 == self.stations.len() {
+            return 0.0;
+        }
+        let v = x.get(s - 1).copied().unwrap_or(0.0);
+        if v.is_finite() {
+            v.clamp(-1.0, 1.0)
+        } else {
+            0.0
+        }
+    }
+
+    /// The waypoint of station `s` at offset `v` (the station itself at the fixed ends).
+    fn at(&self, s: usize, v: f32) -> Point {
         let st = &self.stations[s];
         if s == 0 || s + 1 == self.stations.len() {
             return st.point;
         }
-        let v = x.get(s - 1).copied().unwrap_or(0.0);
-        let v = if v.is_finite() {
-            v.clamp(-1.0, 1.0)
-        } else {
-            0.0
-        };
         let t = if v >= 0.0 { v * st.pos } else { v * st.neg };
         Point::new(st.point.x + t * st.normal.0, st.point.y + t * st.normal.1)
+    }
+
+    fn waypoint(&self, s: usize, x: &[f32]) -> Point {
+        self.at(s, self.offset(s, x))
+    }
+
+    /// Waypoint `s` and its offset.
+    fn place(&self, s: usize, x: &[f32]) -> (Point, f32) {
+        let v = self.offset(s, x);
+        (self.at(s, v), v)
+    }
+
+    /// Tests interval pair `(i, j)` of leg `s` into the cache; whether all its legs are clear.
+    /// Out of line: it runs a few hundred times per plan, and inlined, its locals would
+    /// deepen the stack frame of every evaluation.
+    #[inline(never)]
+    fn test_pair(&mut self, s: usize, i: usize, j: usize) -> bool {
+        let bit = 1u64 << (i * BUCKETS + j);
+        let ((a0, a1), (b0, b1)) = (interval(i), interval(j));
+        let hull = [
+            self.at(s, a0),
+            self.at(s, a1),
+            self.at(s + 1, b0),
+            self.at(s + 1, b1),
+        ];
+        let clear = hull_is_clear(self.grid, &hull, self.margin);
+        let st = &mut self.stations[s];
+        st.tested |= bit;
+        if clear {
+            st.clear |= bit;
+        }
+        clear
+    }
+
+    /// Whether leg `s` from `a` to `b` (waypoints with their offsets) is clear: the cached
+    /// verdict of its interval pair when that proves it, else the exact check.
+    fn leg_is_clear(&mut self, s: usize, (a, va): (Point, f32), (b, vb): (Point, f32)) -> bool {
+        let (i, j) = (bucket(va), bucket(vb));
+        let bit = 1u64 << (i * BUCKETS + j);
+        let cached = self.stations[s].clear & bit != 0;
+        if cached {
+            return true;
+        }
+        if self.stations[s].tested & bit == 0 && self.test_pair(s, i, j) {
+            return true;
+        }
+        segment_is_clear(self.grid, a, b)
     }
 }
 
@@ -263,13 +353,13 @@ impl Encoding for CorridorEncoding<'_> {
 
     fn cost(&mut self, x: &[f32]) -> f32 {
         let mut total = 0.0;
-        let mut a = self.waypoint(0, x);
+        let mut a = self.place(0, x);
         for s in 0..self.stations.len() - 1 {
-            let b = self.waypoint(s + 1, x);
-            total += if segment_is_clear(self.grid, a, b) {
-                a.distance(b)
+            let b = self.place(s + 1, x);
+            total += if self.leg_is_clear(s, a, b) {
+                a.0.distance(b.0)
             } else {
-                self.repaired_leg(s, a, b)
+                self.repaired_leg(s, a.0, b.0)
             };
             a = b;
         }
@@ -319,8 +409,8 @@ impl Encoding for CorridorEncoding<'_> {
             if s >= legs {
                 continue;
             }
-            let (a, b) = (self.waypoint(s, x), self.waypoint(s + 1, x));
-            if segment_is_clear(self.grid, a, b) {
+            let (a, b) = (self.place(s, x), self.place(s + 1, x));
+            if self.leg_is_clear(s, a, b) {
                 clear |= leg_bit(s);
             } else {
                 repaired |= leg_bit(s);
@@ -333,19 +423,19 @@ impl Encoding for CorridorEncoding<'_> {
         }
         // The exact sum, in `cost`'s order; each newly repaired leg raises the bound again.
         let mut total = 0.0;
-        let mut a = self.waypoint(0, x);
+        let mut a = self.place(0, x);
         for s in 0..legs {
-            let b = self.waypoint(s + 1, x);
+            let b = self.place(s + 1, x);
             let bit = leg_bit(s);
             let is_clear = if (repaired | clear) & bit != 0 {
                 clear & bit != 0
             } else {
-                segment_is_clear(self.grid, a, b)
+                self.leg_is_clear(s, a, b)
             };
             if is_clear {
-                total += a.distance(b);
+                total += a.0.distance(b.0);
             } else {
-                total += self.repaired_leg(s, a, b);
+                total += self.repaired_leg(s, a.0, b.0);
                 if repaired & bit == 0 {
                     repaired |= bit;
                     self.hot |= bit;
