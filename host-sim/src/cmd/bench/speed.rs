@@ -1,13 +1,20 @@
 //! `host-sim bench speed`: time per plan of the swarm planners as a ratio to A* on the same
 //! queries in the same process, with and without stagnation stopping, and the lengths, so
 //! that the cost and the benefit of stopping early are both visible.
+//!
+//! For each swarm planner it also times the optimizer alone: the same algorithm, population,
+//! iterations, seeds and dimension (the mean over the plans), on a sphere in `[-1, 1]^D`
+//! whose evaluation costs next to nothing. That is the floor no encoding can go below, the
+//! cost of the search itself (random draws, Levy flights, bookkeeping), and it says how far
+//! the ratio to A* can fall at these settings.
 
 use super::{fmt, mean_std, print_table, write_json};
 use crate::maps::{HostGrid, load_movingai};
 use anyhow::Context;
 use planner_core::grid::words_for;
 use planner_core::maps::{MapKind, seed000};
-use planner_core::optim::any::AlgorithmKind;
+use planner_core::optim::any::{AlgorithmKind, AnyOptimizer};
+use planner_core::optim::{Bounds, Optimizer, Settings, Stop};
 use planner_core::path::{Path, PathView};
 use planner_core::planner::aco::AcoParams;
 use planner_core::planner::owned::HostPlanner;
@@ -115,8 +122,8 @@ pub fn run(args: &SpeedArgs) -> anyhow::Result<()> {
                     out: &mut PathView,
                     kind: PlannerKind,
                     params: &PlanParams|
-         -> (f64, f64) {
-            let (mut t, mut l) = (Vec::new(), Vec::new());
+         -> (f64, f64, f64) {
+            let (mut t, mut l, mut d) = (Vec::new(), Vec::new(), Vec::new());
             // One untimed plan first: it warms the caches.
             if let Some(r) = rows.first() {
                 let _ = planner.plan(
@@ -149,9 +156,14 @@ pub fn run(args: &SpeedArgs) -> anyhow::Result<()> {
                     &mut || false,
                 );
                 t.push(began.elapsed().as_secs_f64());
-                l.push(res.map_or(f64::NAN, |o| o.length as f64));
+                l.push(res.as_ref().map_or(f64::NAN, |o| o.length as f64));
+                d.push(
+                    res.ok()
+                        .and_then(|o| o.report)
+                        .map_or(f64::NAN, |r| r.dimension as f64),
+                );
             }
-            (mean_std(&t).0, mean_std(&l).0)
+            (mean_std(&t).0, mean_std(&l).0, mean_std(&d).0)
         };
         let base = PlanParams {
             encoding,
@@ -169,7 +181,7 @@ pub fn run(args: &SpeedArgs) -> anyhow::Result<()> {
                 began.elapsed().as_secs_f64() * 1e3
             );
         }
-        let (t_astar, l_astar) = time(&mut planner, &mut *out, PlannerKind::AStar, &base);
+        let (t_astar, l_astar, _) = time(&mut planner, &mut *out, PlannerKind::AStar, &base);
         table.push(vec![
             name.into(),
             "astar".into(),
@@ -179,9 +191,13 @@ pub fn run(args: &SpeedArgs) -> anyhow::Result<()> {
             fmt(l_astar, 3),
         ]);
         for &kind in &kinds {
+            let mut dimension = f64::NAN;
             for stagnation in [None, Some(args.stagnation)] {
                 let params = PlanParams { stagnation, ..base };
-                let (t, l) = time(&mut planner, &mut *out, kind, &params);
+                let (t, l, d) = time(&mut planner, &mut *out, kind, &params);
+                if stagnation.is_none() {
+                    dimension = d;
+                }
                 let label = format!("{} {}", kind.name(), encoding.name());
                 let stop =
                     stagnation.map_or("500 iterations".to_string(), |s| format!("stagnation {s}"));
@@ -195,6 +211,21 @@ pub fn run(args: &SpeedArgs) -> anyhow::Result<()> {
                     fmt(l, 3),
                 ]);
             }
+            if let (PlannerKind::Swarm(algo), true) = (kind, dimension.is_finite()) {
+                let dim = dimension.round() as usize;
+                let t = optimizer_floor(algo, dim, base.population, base.iterations, rows.len())?;
+                let label = format!("{} alone, D = {dim}", kind.name());
+                let stop = format!("{} iterations", base.iterations);
+                records.push(serde_json::json!({"map": name, "planner": label, "stop": stop, "ms": t * 1e3, "ratio_to_astar": t / t_astar, "mean_length": null}));
+                table.push(vec![
+                    name.into(),
+                    label,
+                    stop,
+                    fmt(t * 1e3, 3),
+                    fmt(t / t_astar, 1),
+                    "-".into(),
+                ]);
+            }
         }
     }
     print_table(
@@ -204,4 +235,47 @@ pub fn run(args: &SpeedArgs) -> anyhow::Result<()> {
     );
     write_json(&args.out.join("speed.json"), &records)?;
     Ok(())
+}
+
+/// Mean time of `runs` runs (seeds 1..=runs, as the plans) of `algo` alone on a shifted
+/// sphere in `[-1, 1]^dim`: what the search costs without an encoding.
+fn optimizer_floor(
+    algo: AlgorithmKind,
+    dim: usize,
+    population: usize,
+    iterations: u32,
+    runs: usize,
+) -> anyhow::Result<f64> {
+    const MAX_DIM: usize = planner_core::planner::owned::HOST_DIMENSION;
+    let bounds = Bounds::<MAX_DIM>::uniform(dim, -1.0, 1.0).map_err(anyhow::Error::msg)?;
+    let stop = Stop {
+        max_iterations: Some(iterations),
+        ..Stop::default()
+    };
+    // Centred off the origin: swarms converging on 0 would work in subnormal floats, which
+    // cost x86 a hundred cycles an operation and no plan ever meets.
+    let mut sphere = |x: &[f32]| {
+        x.iter()
+            .enumerate()
+            .map(|(i, v)| {
+                let d = v - ((i * 7 % 10) as f32 / 10.0 - 0.45);
+                d * d
+            })
+            .sum::<f32>()
+    };
+    let mut times = Vec::with_capacity(runs);
+    for k in 0..runs.max(1) {
+        let settings = Settings {
+            population,
+            iterations,
+            seed: k as u64 + 1,
+        };
+        let mut opt: Box<AnyOptimizer<{ planner_core::planner::owned::HOST_POPULATION }, MAX_DIM>> =
+            Box::new(AnyOptimizer::new(algo, settings, &bounds).map_err(anyhow::Error::msg)?);
+        let began = Instant::now();
+        opt.run(&mut sphere, None, &stop, &mut [])
+            .map_err(anyhow::Error::msg)?;
+        times.push(began.elapsed().as_secs_f64());
+    }
+    Ok(mean_std(&times).0)
 }
