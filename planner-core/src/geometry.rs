@@ -280,19 +280,22 @@ fn float_strips(
     let (du, dv) = (u1 - u0, v1 - v0);
     let s0 = crate::math::ceil_i(u0 - 0.5 - TOUCH_EPS);
     let s1 = crate::math::floor_i(u1 + 0.5 + TOUCH_EPS);
+    // `v` on the strip edge at `u`, clamped to the segment: a strip reached only through
+    // TOUCH_EPS is touched near an end point, and extrapolating the line there would run
+    // away when du is tiny. Multiply before dividing: exact whenever the true value is
+    // representable, which keeps corner touches exact.
+    let edge = |u: f32| v0 + (between(u, u0, u1) - u0) * dv / du;
+    // Neighbouring strips share an edge (`s + 0.5` and `(s + 1) - 0.5` are the same float
+    // for any map size), so each edge is computed once.
+    let mut vl = if du == 0.0 { v0 } else { edge(s0 as f32 - 0.5) };
     for s in s0..=s1 {
         let (lo, hi) = if du == 0.0 {
             ordered(v0, v1)
         } else {
-            // Clamped to the segment: a strip reached only through TOUCH_EPS is touched near
-            // an end point, and extrapolating the line there would run away when du is tiny.
-            let ul = between(s as f32 - 0.5, u0, u1);
-            let ur = between(s as f32 + 0.5, u0, u1);
-            // Multiply before dividing: exact whenever the true value is representable,
-            // which keeps corner touches exact.
-            let vl = v0 + (ul - u0) * dv / du;
-            let vr = v0 + (ur - u0) * dv / du;
-            ordered(vl, vr)
+            let vr = edge(s as f32 + 0.5);
+            let run = ordered(vl, vr);
+            vl = vr;
+            run
         };
         let p0 = crate::math::ceil_i(lo - 0.5 - TOUCH_EPS);
         let p1 = crate::math::floor_i(hi + 0.5 + TOUCH_EPS);
@@ -374,16 +377,17 @@ pub fn hull_is_clear(grid: GridRef<'_>, points: &[Point; 4], margin: f32) -> boo
     {
         return false;
     }
-    // Separating axes: the normals of every pair of points, a superset of the hull's edge
-    // normals; the cell's own axes are settled by the range of cells visited below. A gap
-    // along one unit axis bounds the Euclidean distance from below, hence conservative.
-    let mut axes = [(0.0f32, 0.0f32, 0.0f32, 0.0f32); 6];
+    // Separating axes: the normals of the hull's edges (pairs of points with the others on
+    // one side); the cell's own axes are settled by the range of cells visited below. A gap
+    // along one unit axis bounds the Euclidean distance from below, so any subset of axes
+    // is conservative: ties and degenerate hulls can only lose a proof, never fake one.
+    let mut axes = [(0.0f32, 0.0f32, 0.0f32, 0.0f32); 4];
     let mut count = 0;
     for i in 0..4 {
         for j in i + 1..4 {
             let (dx, dy) = (points[j].x - points[i].x, points[j].y - points[i].y);
             let len = crate::math::sqrt(dx * dx + dy * dy);
-            if len <= 1e-6 {
+            if len <= 1e-6 || count == axes.len() {
                 continue;
             }
             let (nx, ny) = (-dy / len, dx / len);
@@ -392,8 +396,11 @@ pub fn hull_is_clear(grid: GridRef<'_>, points: &[Point; 4], margin: f32) -> boo
                 let d = p.x * nx + p.y * ny;
                 (lo, hi) = (lo.min(d), hi.max(d));
             }
-            axes[count] = (nx, ny, lo - margin, hi + margin);
-            count += 1;
+            let d = points[i].x * nx + points[i].y * ny;
+            if d - lo <= 1e-5 || hi - d <= 1e-5 {
+                axes[count] = (nx, ny, lo - margin, hi + margin);
+                count += 1;
+            }
         }
     }
     let axes = &axes[..count];

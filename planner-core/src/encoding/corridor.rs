@@ -264,6 +264,7 @@ impl<'a> CorridorEncoding<'a> {
 
     /// Length of leg `s` (`a -> b`) repaired along the guide: `a -> g_s -> (guide) ->
     /// g_{s+1} -> b`.
+    #[inline(always)]
     fn repaired_leg(&self, s: usize, a: Point, b: Point) -> f32 {
         a.distance(self.stations[s].point)
             + self.stations[s].arc_to_next
@@ -272,6 +273,7 @@ impl<'a> CorridorEncoding<'a> {
 
     /// The offset in `[-1, 1]` of station `s` (0 at the fixed ends and for a non-finite
     /// variable).
+    #[inline(always)]
     fn offset(&self, s: usize, x: &[f32]) -> f32 {
         if s == 0 || s + 1 == self.stations.len() {
             return 0.0;
@@ -285,6 +287,7 @@ impl<'a> CorridorEncoding<'a> {
     }
 
     /// The waypoint of station `s` at offset `v` (the station itself at the fixed ends).
+    #[inline(always)]
     fn at(&self, s: usize, v: f32) -> Point {
         let st = &self.stations[s];
         if s == 0 || s + 1 == self.stations.len() {
@@ -294,14 +297,38 @@ impl<'a> CorridorEncoding<'a> {
         Point::new(st.point.x + t * st.normal.0, st.point.y + t * st.normal.1)
     }
 
+    #[inline(always)]
     fn waypoint(&self, s: usize, x: &[f32]) -> Point {
         self.at(s, self.offset(s, x))
     }
 
     /// Waypoint `s` and its offset.
+    #[inline(always)]
     fn place(&self, s: usize, x: &[f32]) -> (Point, f32) {
         let v = self.offset(s, x);
         (self.at(s, v), v)
+    }
+
+    /// A lower bound of the cost of `x`: legs in `repaired` (bit `s` for leg `s`) repaired,
+    /// the others straight. A repaired leg is never shorter than the straight one (triangle
+    /// inequality), so straight legs in place of the unchecked ones bound the cost from
+    /// below. Summed in the exact cost's order, with straight legs shrunk by a few ulps (a
+    /// repair along the straight line may round a hair below it), the bound stays below the
+    /// cost in `f32` too: round-to-nearest addition is monotone.
+    #[inline(always)]
+    fn lower(&self, x: &[f32], repaired: u128) -> f32 {
+        let mut total = 0.0;
+        let mut a = self.waypoint(0, x);
+        for s in 0..self.stations.len() - 1 {
+            let b = self.waypoint(s + 1, x);
+            total += if leg_bit(s) & repaired != 0 {
+                self.repaired_leg(s, a, b)
+            } else {
+                a.distance(b) * STRAIGHT_SHRINK
+            };
+            a = b;
+        }
+        total
     }
 
     /// Tests interval pair `(i, j)` of leg `s` into the cache; whether all its legs are clear.
@@ -328,6 +355,7 @@ impl<'a> CorridorEncoding<'a> {
 
     /// Whether leg `s` from `a` to `b` (waypoints with their offsets) is clear: the cached
     /// verdict of its interval pair when that proves it, else the exact check.
+    #[inline(always)]
     fn leg_is_clear(&mut self, s: usize, (a, va): (Point, f32), (b, vb): (Point, f32)) -> bool {
         let (i, j) = (bucket(va), bucket(vb));
         let bit = 1u64 << (i * BUCKETS + j);
@@ -371,26 +399,7 @@ impl Encoding for CorridorEncoding<'_> {
             return self.cost(x);
         }
         let legs = self.stations.len() - 1;
-        // A repaired leg is never shorter than the straight one (triangle inequality), so
-        // straight legs in place of the unchecked ones bound the cost from below. Summed in
-        // the exact cost's order, with straight legs shrunk by a few ulps (a repair along the
-        // straight line may round a hair below it), the bound stays below the cost in `f32`
-        // too: round-to-nearest addition is monotone.
-        let lower = |enc: &Self, repaired: u128| {
-            let mut total = 0.0;
-            let mut a = enc.waypoint(0, x);
-            for s in 0..legs {
-                let b = enc.waypoint(s + 1, x);
-                total += if leg_bit(s) & repaired != 0 {
-                    enc.repaired_leg(s, a, b)
-                } else {
-                    a.distance(b) * STRAIGHT_SHRINK
-                };
-                a = b;
-            }
-            total
-        };
-        let first = lower(self, 0);
+        let first = self.lower(x, 0);
         if first >= bound {
             return first;
         }
@@ -414,7 +423,7 @@ impl Encoding for CorridorEncoding<'_> {
                 clear |= leg_bit(s);
             } else {
                 repaired |= leg_bit(s);
-                let bound_now = lower(self, repaired);
+                let bound_now = self.lower(x, repaired);
                 if bound_now >= bound {
                     self.decisive = s;
                     return bound_now;
@@ -439,7 +448,7 @@ impl Encoding for CorridorEncoding<'_> {
                 if repaired & bit == 0 {
                     repaired |= bit;
                     self.hot |= bit;
-                    let bound_now = lower(self, repaired);
+                    let bound_now = self.lower(x, repaired);
                     if bound_now >= bound {
                         self.decisive = s;
                         return bound_now;
