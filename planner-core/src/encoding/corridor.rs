@@ -106,16 +106,21 @@ pub struct CorridorEncoding<'a> {
     /// Clearance that a cached interval pair must keep ([`hull_margin`]).
     margin: f32,
     /// Legs that needed a repair in an earlier exact pass of `cost_below` (bit `s` for leg
-    /// `s < 128`): checked first, since the swarm keeps probing the same corners.
-    hot: u128,
+    /// `s < 64`): checked first, since the swarm keeps probing the same corners.
+    hot: LegSet,
     /// The leg whose repair last proved a bounded cost too high: checked first next time.
     decisive: usize,
 }
 
-/// The bit of leg `s` in a leg set (legs from 128 on are never in one: they are checked in
-/// order like the others).
-fn leg_bit(s: usize) -> u128 {
-    if s < 128 { 1u128 << s } else { 0 }
+/// A set of legs, bit `s` for leg `s`. One machine word or two: a `u128` would take four
+/// registers per set on a Cortex-M4 and spill. Legs from 64 on are never in a set: they are
+/// checked in order like the others, and a repair there lifts the lower bound only when the
+/// exact pass reaches it (a weaker bound, the same costs).
+type LegSet = u64;
+
+/// The bit of leg `s` in a [`LegSet`] (0 from leg 64 on).
+fn leg_bit(s: usize) -> LegSet {
+    if s < 64 { 1 << s } else { 0 }
 }
 
 impl<'a> CorridorEncoding<'a> {
@@ -316,7 +321,7 @@ impl<'a> CorridorEncoding<'a> {
     /// repair along the straight line may round a hair below it), the bound stays below the
     /// cost in `f32` too: round-to-nearest addition is monotone.
     #[inline(always)]
-    fn lower(&self, x: &[f32], repaired: u128) -> f32 {
+    fn lower(&self, x: &[f32], repaired: LegSet) -> f32 {
         let mut total = 0.0;
         let mut a = self.waypoint(0, x);
         for s in 0..self.stations.len() - 1 {
@@ -406,8 +411,8 @@ impl Encoding for CorridorEncoding<'_> {
         // Legs that needed a repair in earlier evaluations are checked first, the one that
         // settled the previous bounded evaluation before the others: one of them is usually
         // what makes a candidate worse than the bound.
-        let mut repaired = 0u128;
-        let mut clear = 0u128;
+        let mut repaired: LegSet = 0;
+        let mut clear: LegSet = 0;
         let first_leg = leg_bit(self.decisive) & self.hot;
         let mut order = first_leg;
         let mut hot = self.hot & !first_leg;
