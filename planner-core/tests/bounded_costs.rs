@@ -107,6 +107,19 @@ fn corridor_cost_below_keeps_its_contract() {
     check_contract(&mut enc, 7);
 }
 
+/// More legs than a leg set holds (64): the legs beyond are checked in order and lift the
+/// bound only when reached.
+#[test]
+fn corridor_cost_below_keeps_its_contract_beyond_64_legs() {
+    let map = warehouse();
+    let guide = guide(&map);
+    let mut stations = [Station::EMPTY; 130];
+    let mut enc =
+        CorridorEncoding::build(map.grid.view(), &guide, 1.0, 5.0, 128, &mut stations).unwrap();
+    assert!(enc.dim() + 1 > 64, "{} legs", enc.dim() + 1);
+    check_contract(&mut enc, 13);
+}
+
 #[test]
 fn column_cost_below_keeps_its_contract() {
     let map = warehouse();
