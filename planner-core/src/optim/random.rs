@@ -167,20 +167,22 @@ impl Random {
 /// every target, so plans stay bit-identical between hosts and the MCU.
 pub fn cbrt_positive(x: f32) -> f32 {
     // Comparisons, not `max`, which is a libm call on Cortex-M4 and lets NaN through.
-    let x = if (f32::MIN_POSITIVE..=f32::MAX).contains(&x) {
-        x
+    // `!(x >= MIN_POSITIVE)` also catches NaN, in one comparison instead of a range test.
+    #[allow(clippy::neg_cmp_op_on_partial_ord)]
+    let x = if !(x >= f32::MIN_POSITIVE) {
+        f32::MIN_POSITIVE
     } else if x > f32::MAX {
         f32::MAX
     } else {
-        f32::MIN_POSITIVE
+        x
     };
     // Dividing the biased exponent by three: bits / 3 + 2/3 of the bias (709,958,130 is
     // musl's constant for the same estimate).
-    let mut y = f32::from_bits(x.to_bits() / 3 + 709_958_130);
-    for _ in 0..4 {
-        y = (2.0 * y + x / (y * y)) * (1.0 / 3.0);
-    }
-    y
+    let y = f32::from_bits(x.to_bits() / 3 + 709_958_130);
+    // Written out: firmware builds for size (`opt-level = "s"`) and would keep the loop
+    // counter and branch of `for _ in 0..4` (one Levy step per coordinate of every dive).
+    let newton = |y: f32| (2.0 * y + x / (y * y)) * (1.0 / 3.0);
+    newton(newton(newton(newton(y))))
 }
 
 #[cfg(test)]
