@@ -37,8 +37,8 @@
 
 use super::schedule::{EscapeEnergy, Schedule};
 use super::{
-    Bounds, Initialisation, Objective, OptimError, Optimizer, Settings, Swarm, check_param,
-    swarm_accessors,
+    Bounds, Initialisation, Objective, OptimError, Optimizer, Population, Settings, Swarm,
+    check_param, swarm_accessors,
 };
 
 /// Where TCLHHO's Cauchy / opposition mutation of the rabbit happens.
@@ -245,23 +245,12 @@ impl<const N: usize, const D: usize> Hho<N, D> {
 
     /// Moves hawk `i` to `self.y` with cost `cost`, keeping the running sum.
     fn move_hawk_to_y(&mut self, i: usize, cost: f32) {
-        for ((s, old), new) in self
-            .sum
-            .iter_mut()
-            .zip(self.swarm.pop.position(i))
-            .zip(&self.y)
-        {
-            *s += new - old;
-        }
-        let dim = self.swarm.dim();
-        self.swarm
-            .pop
-            .replace(i, self.y.get(..dim).unwrap_or(&[]), cost);
+        move_hawk(&mut self.sum, &mut self.swarm.pop, i, &self.y, cost);
     }
 
+    /// Moves hawk `i` to `self.z` (`Y` is rewritten before its next use, so no swap).
     fn move_hawk_to_z(&mut self, i: usize, cost: f32) {
-        core::mem::swap(&mut self.y, &mut self.z);
-        self.move_hawk_to_y(i, cost);
+        move_hawk(&mut self.sum, &mut self.swarm.pop, i, &self.z, cost);
     }
 
     /// Writes the mutated rabbit into `self.y` (draws `P`, then Cauchy or `K1, K2`).
@@ -362,23 +351,36 @@ impl<const N: usize, const D: usize> Hho<N, D> {
         }
     }
 
-    /// The dive target `rabbit - E |J rabbit - base|` into `self.y`, `base` = hawk or mean.
+    /// The dive target `rabbit - E |J rabbit - base|` into `self.y` and `self.z`, `base` =
+    /// hawk or mean. `Z` starts from the unclamped `Y` (see [`dive`](Self::dive)): writing
+    /// both here saves copying the whole capacity-sized `Y` afterwards.
     fn dive_target(&mut self, i: usize, e: f32, j: f32, from_mean: bool) {
         let inv_n = 1.0 / self.swarm.n() as f32;
         let scalar_mean = self.scalar_mean();
         let sw = &self.swarm;
         let rabbit = sw.tracker.best();
-        let x = sw.pop.position(i);
-        for (d, (y, rb)) in self.y.iter_mut().zip(rabbit).enumerate() {
-            let base = if from_mean {
-                match scalar_mean {
-                    Some(m) => m,
-                    None => self.sum.get(d).copied().unwrap_or(0.0) * inv_n,
+        let target = |rb: f32, base: f32| rb - e * libm::fabsf(j * rb - base);
+        let yz = self.y.iter_mut().zip(self.z.iter_mut()).zip(rabbit);
+        // One loop per kind of base, so that the loops carry no per-coordinate choice.
+        match (from_mean, scalar_mean) {
+            (false, _) => {
+                for (((y, z), rb), x) in yz.zip(sw.pop.position(i)) {
+                    *y = target(*rb, *x);
+                    *z = *y;
                 }
-            } else {
-                x.get(d).copied().unwrap_or(0.0)
-            };
-            *y = rb - e * libm::fabsf(j * rb - base);
+            }
+            (true, Some(m)) => {
+                for ((y, z), rb) in yz {
+                    *y = target(*rb, m);
+                    *z = *y;
+                }
+            }
+            (true, None) => {
+                for (((y, z), rb), s) in yz.zip(&self.sum) {
+                    *y = target(*rb, s * inv_n);
+                    *z = *y;
+                }
+            }
         }
     }
 
@@ -390,10 +392,9 @@ impl<const N: usize, const D: usize> Hho<N, D> {
         from_mean: bool,
     ) {
         let j = 2.0 * (1.0 - self.swarm.rng.unit());
-        self.dive_target(i, e, j, from_mean);
         // `Z` starts from the unclamped `Y`, as in `HHO.m` (`X2 = Rabbit - E |J Rabbit - X|
-        // + S .* Levy`): evaluating `Y` clamps it in place.
-        self.z = self.y;
+        // + S .* Levy`): evaluating `Y` clamps it in place, so `dive_target` writes both.
+        self.dive_target(i, e, j, from_mean);
         // A dive only replaces the hawk by a better point: costs at or above the hawk's are
         // never used, so the objective may stop as soon as it knows.
         let current = self.exact_cost(objective, i);
@@ -414,6 +415,23 @@ impl<const N: usize, const D: usize> Hho<N, D> {
             self.move_hawk_to_z(i, fz);
         }
     }
+}
+
+/// Moves hawk `i` to `to` with cost `cost`, keeping the running `sum` of the positions.
+///
+/// One pass: each coordinate updates the sum from the old value and is then overwritten.
+fn move_hawk<const N: usize, const D: usize>(
+    sum: &mut [f32; D],
+    pop: &mut Population<N, D>,
+    i: usize,
+    to: &[f32; D],
+    cost: f32,
+) {
+    for ((s, old), new) in sum.iter_mut().zip(pop.position_mut(i)).zip(to) {
+        *s += new - *old;
+        *old = *new;
+    }
+    pop.set_cost(i, cost);
 }
 
 impl<const N: usize, const D: usize> Optimizer for Hho<N, D> {
