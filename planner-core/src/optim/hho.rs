@@ -404,12 +404,15 @@ impl<const N: usize, const D: usize> Hho<N, D> {
             return;
         }
         let scale = self.params.levy_scale;
-        let sw = &mut self.swarm;
-        let dim = sw.dim();
+        let dim = self.swarm.dim();
+        // The same draws from a local copy of the generator, which can stay in registers
+        // (through `self` its state was reloaded and stored back for every coordinate).
+        let mut rng = self.swarm.rng.clone();
         for z in self.z.iter_mut().take(dim) {
-            let s = sw.rng.unit();
-            *z += s * scale * sw.rng.levy();
+            let s = rng.unit();
+            *z += s * scale * rng.levy();
         }
+        self.swarm.rng = rng;
         let fz = self.evaluate_z_below(objective, current);
         if fz < current {
             self.move_hawk_to_z(i, fz);
