@@ -38,7 +38,7 @@
 use super::schedule::{EscapeEnergy, Schedule};
 use super::{
     Bounds, Initialisation, Objective, OptimError, Optimizer, Population, Settings, Swarm,
-    check_param, swarm_accessors,
+    check_param, clamp_into, swarm_accessors,
 };
 
 /// Where TCLHHO's Cauchy / opposition mutation of the rabbit happens.
@@ -259,24 +259,19 @@ impl<const N: usize, const D: usize> Hho<N, D> {
         let p = sw.rng.unit();
         let best = sw.tracker.best();
         if p >= 0.5 {
-            for (y, b) in self.y.iter_mut().zip(best) {
-                *y = b + b * sw.rng.cauchy();
+            for ((y, b), (l, u)) in self.y.iter_mut().zip(best).zip(sw.bounds.pairs()) {
+                *y = clamp_into(b + b * sw.rng.cauchy(), l, u);
             }
         } else {
             let k1 = sw.rng.unit();
             let k2 = sw.rng.unit();
-            for (((y, b), l), u) in self
-                .y
-                .iter_mut()
-                .zip(best)
-                .zip(sw.bounds.lower())
-                .zip(sw.bounds.upper())
-            {
+            for ((y, b), (l, u)) in self.y.iter_mut().zip(best).zip(sw.bounds.pairs()) {
                 let xo = k1 * (u + l) - b;
-                *y = match self.params.opposition {
+                let v = match self.params.opposition {
                     OppositionForm::Interpolated => xo + k2 * (b - xo),
                     OppositionForm::Literal => k2 * (b - xo),
                 };
+                *y = clamp_into(v, l, u);
             }
         }
     }
@@ -285,17 +280,20 @@ impl<const N: usize, const D: usize> Hho<N, D> {
         self.evaluate_y_below(objective, f32::INFINITY)
     }
 
-    /// Evaluates `Y` where only a cost below `bound` (or the rabbit's) matters.
+    /// Evaluates `Y` where only a cost below `bound` (or the rabbit's) matters. Every loop
+    /// that writes a candidate clamps it into the box as it goes (one pass instead of a second
+    /// one over the candidate), so it is evaluated as it is.
     fn evaluate_y_below<O: Objective + ?Sized>(&mut self, objective: &mut O, bound: f32) -> f32 {
         let dim = self.swarm.dim();
-        let y = self.y.get_mut(..dim).unwrap_or(&mut []);
-        self.swarm.clamp_and_evaluate_below(objective, y, bound)
+        let y = self.y.get(..dim).unwrap_or(&[]);
+        self.swarm.tracker.evaluate_below(objective, y, bound)
     }
 
+    /// [`evaluate_y_below`](Self::evaluate_y_below) for `Z`.
     fn evaluate_z_below<O: Objective + ?Sized>(&mut self, objective: &mut O, bound: f32) -> f32 {
         let dim = self.swarm.dim();
-        let z = self.z.get_mut(..dim).unwrap_or(&mut []);
-        self.swarm.clamp_and_evaluate_below(objective, z, bound)
+        let z = self.z.get(..dim).unwrap_or(&[]);
+        self.swarm.tracker.evaluate_below(objective, z, bound)
     }
 
     /// `X_m` as one number ([`HawkMean::Scalar`]), or `None` for the per-dimension mean.
@@ -320,13 +318,14 @@ impl<const N: usize, const D: usize> Hho<N, D> {
         if q < 0.5 {
             let r1 = sw.rng.unit();
             let r2 = sw.rng.unit();
-            for ((y, xr), x) in self
+            for (((y, xr), x), (l, u)) in self
                 .y
                 .iter_mut()
                 .zip(sw.pop.position(k))
                 .zip(sw.pop.position(i))
+                .zip(sw.bounds.pairs())
             {
-                *y = xr - r1 * libm::fabsf(xr - 2.0 * r2 * x);
+                *y = clamp_into(xr - r1 * libm::fabsf(xr - 2.0 * r2 * x), l, u);
             }
         } else {
             let r3 = sw.rng.unit();
@@ -334,19 +333,18 @@ impl<const N: usize, const D: usize> Hho<N, D> {
             let scalar_mean = self.scalar_mean();
             let sw = &mut self.swarm;
             let rabbit = sw.tracker.best();
-            for ((((y, rb), s), l), u) in self
+            for (((y, rb), s), (l, u)) in self
                 .y
                 .iter_mut()
                 .zip(rabbit)
                 .zip(&self.sum)
-                .zip(sw.bounds.lower())
-                .zip(sw.bounds.upper())
+                .zip(sw.bounds.pairs())
             {
                 let m = match scalar_mean {
                     Some(m) => m,
                     None => s * inv_n,
                 };
-                *y = (rb - m) - r3 * (l + r4 * (u - l));
+                *y = clamp_into((rb - m) - r3 * (l + r4 * (u - l)), l, u);
             }
         }
     }
@@ -360,25 +358,31 @@ impl<const N: usize, const D: usize> Hho<N, D> {
         let sw = &self.swarm;
         let rabbit = sw.tracker.best();
         let target = |rb: f32, base: f32| rb - e * libm::fabsf(j * rb - base);
-        let yz = self.y.iter_mut().zip(self.z.iter_mut()).zip(rabbit);
-        // One loop per kind of base, so that the loops carry no per-coordinate choice.
+        let yz = self
+            .y
+            .iter_mut()
+            .zip(self.z.iter_mut())
+            .zip(rabbit)
+            .zip(sw.bounds.pairs());
+        // One loop per kind of base, so that the loops carry no per-coordinate choice. `Y` is
+        // clamped, `Z` keeps the unclamped value.
         match (from_mean, scalar_mean) {
             (false, _) => {
-                for (((y, z), rb), x) in yz.zip(sw.pop.position(i)) {
-                    *y = target(*rb, *x);
-                    *z = *y;
+                for ((((y, z), rb), (l, u)), x) in yz.zip(sw.pop.position(i)) {
+                    *z = target(*rb, *x);
+                    *y = clamp_into(*z, l, u);
                 }
             }
             (true, Some(m)) => {
-                for ((y, z), rb) in yz {
-                    *y = target(*rb, m);
-                    *z = *y;
+                for (((y, z), rb), (l, u)) in yz {
+                    *z = target(*rb, m);
+                    *y = clamp_into(*z, l, u);
                 }
             }
             (true, None) => {
-                for (((y, z), rb), s) in yz.zip(&self.sum) {
-                    *y = target(*rb, s * inv_n);
-                    *z = *y;
+                for ((((y, z), rb), (l, u)), s) in yz.zip(&self.sum) {
+                    *z = target(*rb, s * inv_n);
+                    *y = clamp_into(*z, l, u);
                 }
             }
         }
@@ -408,9 +412,9 @@ impl<const N: usize, const D: usize> Hho<N, D> {
         // The same draws from a local copy of the generator, which can stay in registers
         // (through `self` its state was reloaded and stored back for every coordinate).
         let mut rng = self.swarm.rng.clone();
-        for z in self.z.iter_mut().take(dim) {
+        for (z, (l, u)) in self.z.iter_mut().take(dim).zip(self.swarm.bounds.pairs()) {
             let s = rng.unit();
-            *z += s * scale * rng.levy();
+            *z = clamp_into(*z + s * scale * rng.levy(), l, u);
         }
         self.swarm.rng = rng;
         let fz = self.evaluate_z_below(objective, current);
@@ -468,13 +472,14 @@ impl<const N: usize, const D: usize> Optimizer for Hho<N, D> {
                 (true, false) => {
                     // Hard besiege.
                     let sw = &self.swarm;
-                    for ((y, rb), x) in self
+                    for (((y, rb), x), (l, u)) in self
                         .y
                         .iter_mut()
                         .zip(sw.tracker.best())
                         .zip(sw.pop.position(i))
+                        .zip(sw.bounds.pairs())
                     {
-                        *y = rb - e * libm::fabsf(rb - x);
+                        *y = clamp_into(rb - e * libm::fabsf(rb - x), l, u);
                     }
                     self.move_hawk_unconditionally(objective, i);
                 }
@@ -482,13 +487,14 @@ impl<const N: usize, const D: usize> Optimizer for Hho<N, D> {
                     // Soft besiege.
                     let j = 2.0 * (1.0 - self.swarm.rng.unit());
                     let sw = &self.swarm;
-                    for ((y, rb), x) in self
+                    for (((y, rb), x), (l, u)) in self
                         .y
                         .iter_mut()
                         .zip(sw.tracker.best())
                         .zip(sw.pop.position(i))
+                        .zip(sw.bounds.pairs())
                     {
-                        *y = (rb - x) - e * libm::fabsf(j * rb - x);
+                        *y = clamp_into((rb - x) - e * libm::fabsf(j * rb - x), l, u);
                     }
                     self.move_hawk_unconditionally(objective, i);
                 }
@@ -592,6 +598,36 @@ mod tests {
             let r = h.run(&mut obj, None, &Stop::default(), &mut []).unwrap();
             assert_eq!(r.evaluations, calls);
             assert!(r.evaluations > 10 + 10 * 30);
+        }
+    }
+
+    #[test]
+    fn every_evaluated_point_is_in_the_box() {
+        // Candidates are clamped by the loops that compute them: a narrow box off the
+        // optimum makes every move and the mutation leave it often.
+        let b = Bounds::<6>::uniform(6, 2.0, 3.0).unwrap();
+        for params in [
+            HhoParams::hho(),
+            HhoParams::tclhho(),
+            HhoParams::tclhho_literal(),
+            HhoParams {
+                mean: HawkMean::Scalar,
+                ..HhoParams::tclhho()
+            },
+        ] {
+            let s = Settings {
+                population: 8,
+                iterations: 60,
+                seed: 11,
+            };
+            let mut h = Hho::<8, 6>::new(s, &b, params).unwrap();
+            let mut outside = 0u32;
+            let mut obj = |x: &[f32]| {
+                outside += x.iter().filter(|v| !(2.0..=3.0).contains(*v)).count() as u32;
+                x.iter().map(|v| v * v).sum::<f32>()
+            };
+            h.run(&mut obj, None, &Stop::default(), &mut []).unwrap();
+            assert_eq!(outside, 0, "{params:?}");
         }
     }
 
