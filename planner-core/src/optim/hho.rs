@@ -37,8 +37,8 @@
 
 use super::schedule::{EscapeEnergy, Schedule};
 use super::{
-    Bounds, Initialisation, Objective, OptimError, Optimizer, Settings, Swarm, check_param,
-    swarm_accessors,
+    Bounds, Initialisation, Objective, OptimError, Optimizer, Population, Settings, Swarm,
+    check_param, clamp_into, swarm_accessors,
 };
 
 /// Where TCLHHO's Cauchy / opposition mutation of the rabbit happens.
@@ -245,23 +245,12 @@ impl<const N: usize, const D: usize> Hho<N, D> {
 
     /// Moves hawk `i` to `self.y` with cost `cost`, keeping the running sum.
     fn move_hawk_to_y(&mut self, i: usize, cost: f32) {
-        for ((s, old), new) in self
-            .sum
-            .iter_mut()
-            .zip(self.swarm.pop.position(i))
-            .zip(&self.y)
-        {
-            *s += new - old;
-        }
-        let dim = self.swarm.dim();
-        self.swarm
-            .pop
-            .replace(i, self.y.get(..dim).unwrap_or(&[]), cost);
+        move_hawk(&mut self.sum, &mut self.swarm.pop, i, &self.y, cost);
     }
 
+    /// Moves hawk `i` to `self.z` (`Y` is rewritten before its next use, so no swap).
     fn move_hawk_to_z(&mut self, i: usize, cost: f32) {
-        core::mem::swap(&mut self.y, &mut self.z);
-        self.move_hawk_to_y(i, cost);
+        move_hawk(&mut self.sum, &mut self.swarm.pop, i, &self.z, cost);
     }
 
     /// Writes the mutated rabbit into `self.y` (draws `P`, then Cauchy or `K1, K2`).
@@ -270,24 +259,19 @@ impl<const N: usize, const D: usize> Hho<N, D> {
         let p = sw.rng.unit();
         let best = sw.tracker.best();
         if p >= 0.5 {
-            for (y, b) in self.y.iter_mut().zip(best) {
-                *y = b + b * sw.rng.cauchy();
+            for ((y, b), (l, u)) in self.y.iter_mut().zip(best).zip(sw.bounds.pairs()) {
+                *y = clamp_into(b + b * sw.rng.cauchy(), l, u);
             }
         } else {
             let k1 = sw.rng.unit();
             let k2 = sw.rng.unit();
-            for (((y, b), l), u) in self
-                .y
-                .iter_mut()
-                .zip(best)
-                .zip(sw.bounds.lower())
-                .zip(sw.bounds.upper())
-            {
+            for ((y, b), (l, u)) in self.y.iter_mut().zip(best).zip(sw.bounds.pairs()) {
                 let xo = k1 * (u + l) - b;
-                *y = match self.params.opposition {
+                let v = match self.params.opposition {
                     OppositionForm::Interpolated => xo + k2 * (b - xo),
                     OppositionForm::Literal => k2 * (b - xo),
                 };
+                *y = clamp_into(v, l, u);
             }
         }
     }
@@ -296,17 +280,20 @@ impl<const N: usize, const D: usize> Hho<N, D> {
         self.evaluate_y_below(objective, f32::INFINITY)
     }
 
-    /// Evaluates `Y` where only a cost below `bound` (or the rabbit's) matters.
+    /// Evaluates `Y` where only a cost below `bound` (or the rabbit's) matters. Every loop
+    /// that writes a candidate clamps it into the box as it goes (one pass instead of a second
+    /// one over the candidate), so it is evaluated as it is.
     fn evaluate_y_below<O: Objective + ?Sized>(&mut self, objective: &mut O, bound: f32) -> f32 {
         let dim = self.swarm.dim();
-        let y = self.y.get_mut(..dim).unwrap_or(&mut []);
-        self.swarm.clamp_and_evaluate_below(objective, y, bound)
+        let y = self.y.get(..dim).unwrap_or(&[]);
+        self.swarm.tracker.evaluate_below(objective, y, bound)
     }
 
+    /// [`evaluate_y_below`](Self::evaluate_y_below) for `Z`.
     fn evaluate_z_below<O: Objective + ?Sized>(&mut self, objective: &mut O, bound: f32) -> f32 {
         let dim = self.swarm.dim();
-        let z = self.z.get_mut(..dim).unwrap_or(&mut []);
-        self.swarm.clamp_and_evaluate_below(objective, z, bound)
+        let z = self.z.get(..dim).unwrap_or(&[]);
+        self.swarm.tracker.evaluate_below(objective, z, bound)
     }
 
     /// `X_m` as one number ([`HawkMean::Scalar`]), or `None` for the per-dimension mean.
@@ -331,13 +318,14 @@ impl<const N: usize, const D: usize> Hho<N, D> {
         if q < 0.5 {
             let r1 = sw.rng.unit();
             let r2 = sw.rng.unit();
-            for ((y, xr), x) in self
+            for (((y, xr), x), (l, u)) in self
                 .y
                 .iter_mut()
                 .zip(sw.pop.position(k))
                 .zip(sw.pop.position(i))
+                .zip(sw.bounds.pairs())
             {
-                *y = xr - r1 * libm::fabsf(xr - 2.0 * r2 * x);
+                *y = clamp_into(xr - r1 * libm::fabsf(xr - 2.0 * r2 * x), l, u);
             }
         } else {
             let r3 = sw.rng.unit();
@@ -345,40 +333,58 @@ impl<const N: usize, const D: usize> Hho<N, D> {
             let scalar_mean = self.scalar_mean();
             let sw = &mut self.swarm;
             let rabbit = sw.tracker.best();
-            for ((((y, rb), s), l), u) in self
+            for (((y, rb), s), (l, u)) in self
                 .y
                 .iter_mut()
                 .zip(rabbit)
                 .zip(&self.sum)
-                .zip(sw.bounds.lower())
-                .zip(sw.bounds.upper())
+                .zip(sw.bounds.pairs())
             {
                 let m = match scalar_mean {
                     Some(m) => m,
                     None => s * inv_n,
                 };
-                *y = (rb - m) - r3 * (l + r4 * (u - l));
+                *y = clamp_into((rb - m) - r3 * (l + r4 * (u - l)), l, u);
             }
         }
     }
 
-    /// The dive target `rabbit - E |J rabbit - base|` into `self.y`, `base` = hawk or mean.
+    /// The dive target `rabbit - E |J rabbit - base|` into `self.y` and `self.z`, `base` =
+    /// hawk or mean. `Z` starts from the unclamped `Y` (see [`dive`](Self::dive)): writing
+    /// both here saves copying the whole capacity-sized `Y` afterwards.
     fn dive_target(&mut self, i: usize, e: f32, j: f32, from_mean: bool) {
         let inv_n = 1.0 / self.swarm.n() as f32;
         let scalar_mean = self.scalar_mean();
         let sw = &self.swarm;
         let rabbit = sw.tracker.best();
-        let x = sw.pop.position(i);
-        for (d, (y, rb)) in self.y.iter_mut().zip(rabbit).enumerate() {
-            let base = if from_mean {
-                match scalar_mean {
-                    Some(m) => m,
-                    None => self.sum.get(d).copied().unwrap_or(0.0) * inv_n,
+        let target = |rb: f32, base: f32| rb - e * libm::fabsf(j * rb - base);
+        let yz = self
+            .y
+            .iter_mut()
+            .zip(self.z.iter_mut())
+            .zip(rabbit)
+            .zip(sw.bounds.pairs());
+        // One loop per kind of base, so that the loops carry no per-coordinate choice. `Y` is
+        // clamped, `Z` keeps the unclamped value.
+        match (from_mean, scalar_mean) {
+            (false, _) => {
+                for ((((y, z), rb), (l, u)), x) in yz.zip(sw.pop.position(i)) {
+                    *z = target(*rb, *x);
+                    *y = clamp_into(*z, l, u);
                 }
-            } else {
-                x.get(d).copied().unwrap_or(0.0)
-            };
-            *y = rb - e * libm::fabsf(j * rb - base);
+            }
+            (true, Some(m)) => {
+                for (((y, z), rb), (l, u)) in yz {
+                    *z = target(*rb, m);
+                    *y = clamp_into(*z, l, u);
+                }
+            }
+            (true, None) => {
+                for ((((y, z), rb), (l, u)), s) in yz.zip(&self.sum) {
+                    *z = target(*rb, s * inv_n);
+                    *y = clamp_into(*z, l, u);
+                }
+            }
         }
     }
 
@@ -390,10 +396,9 @@ impl<const N: usize, const D: usize> Hho<N, D> {
         from_mean: bool,
     ) {
         let j = 2.0 * (1.0 - self.swarm.rng.unit());
-        self.dive_target(i, e, j, from_mean);
         // `Z` starts from the unclamped `Y`, as in `HHO.m` (`X2 = Rabbit - E |J Rabbit - X|
-        // + S .* Levy`): evaluating `Y` clamps it in place.
-        self.z = self.y;
+        // + S .* Levy`): evaluating `Y` clamps it in place, so `dive_target` writes both.
+        self.dive_target(i, e, j, from_mean);
         // A dive only replaces the hawk by a better point: costs at or above the hawk's are
         // never used, so the objective may stop as soon as it knows.
         let current = self.exact_cost(objective, i);
@@ -403,17 +408,37 @@ impl<const N: usize, const D: usize> Hho<N, D> {
             return;
         }
         let scale = self.params.levy_scale;
-        let sw = &mut self.swarm;
-        let dim = sw.dim();
-        for z in self.z.iter_mut().take(dim) {
-            let s = sw.rng.unit();
-            *z += s * scale * sw.rng.levy();
+        let dim = self.swarm.dim();
+        // The same draws from a local copy of the generator, which can stay in registers
+        // (through `self` its state was reloaded and stored back for every coordinate).
+        let mut rng = self.swarm.rng.clone();
+        for (z, (l, u)) in self.z.iter_mut().take(dim).zip(self.swarm.bounds.pairs()) {
+            let s = rng.unit();
+            *z = clamp_into(*z + s * scale * rng.levy(), l, u);
         }
+        self.swarm.rng = rng;
         let fz = self.evaluate_z_below(objective, current);
         if fz < current {
             self.move_hawk_to_z(i, fz);
         }
     }
+}
+
+/// Moves hawk `i` to `to` with cost `cost`, keeping the running `sum` of the positions.
+///
+/// One pass: each coordinate updates the sum from the old value and is then overwritten.
+fn move_hawk<const N: usize, const D: usize>(
+    sum: &mut [f32; D],
+    pop: &mut Population<N, D>,
+    i: usize,
+    to: &[f32; D],
+    cost: f32,
+) {
+    for ((s, old), new) in sum.iter_mut().zip(pop.position_mut(i)).zip(to) {
+        *s += new - *old;
+        *old = *new;
+    }
+    pop.set_cost(i, cost);
 }
 
 impl<const N: usize, const D: usize> Optimizer for Hho<N, D> {
@@ -447,13 +472,14 @@ impl<const N: usize, const D: usize> Optimizer for Hho<N, D> {
                 (true, false) => {
                     // Hard besiege.
                     let sw = &self.swarm;
-                    for ((y, rb), x) in self
+                    for (((y, rb), x), (l, u)) in self
                         .y
                         .iter_mut()
                         .zip(sw.tracker.best())
                         .zip(sw.pop.position(i))
+                        .zip(sw.bounds.pairs())
                     {
-                        *y = rb - e * libm::fabsf(rb - x);
+                        *y = clamp_into(rb - e * libm::fabsf(rb - x), l, u);
                     }
                     self.move_hawk_unconditionally(objective, i);
                 }
@@ -461,13 +487,14 @@ impl<const N: usize, const D: usize> Optimizer for Hho<N, D> {
                     // Soft besiege.
                     let j = 2.0 * (1.0 - self.swarm.rng.unit());
                     let sw = &self.swarm;
-                    for ((y, rb), x) in self
+                    for (((y, rb), x), (l, u)) in self
                         .y
                         .iter_mut()
                         .zip(sw.tracker.best())
                         .zip(sw.pop.position(i))
+                        .zip(sw.bounds.pairs())
                     {
-                        *y = (rb - x) - e * libm::fabsf(j * rb - x);
+                        *y = clamp_into((rb - x) - e * libm::fabsf(j * rb - x), l, u);
                     }
                     self.move_hawk_unconditionally(objective, i);
                 }
@@ -571,6 +598,36 @@ mod tests {
             let r = h.run(&mut obj, None, &Stop::default(), &mut []).unwrap();
             assert_eq!(r.evaluations, calls);
             assert!(r.evaluations > 10 + 10 * 30);
+        }
+    }
+
+    #[test]
+    fn every_evaluated_point_is_in_the_box() {
+        // Candidates are clamped by the loops that compute them: a narrow box off the
+        // optimum makes every move and the mutation leave it often.
+        let b = Bounds::<6>::uniform(6, 2.0, 3.0).unwrap();
+        for params in [
+            HhoParams::hho(),
+            HhoParams::tclhho(),
+            HhoParams::tclhho_literal(),
+            HhoParams {
+                mean: HawkMean::Scalar,
+                ..HhoParams::tclhho()
+            },
+        ] {
+            let s = Settings {
+                population: 8,
+                iterations: 60,
+                seed: 11,
+            };
+            let mut h = Hho::<8, 6>::new(s, &b, params).unwrap();
+            let mut outside = 0u32;
+            let mut obj = |x: &[f32]| {
+                outside += x.iter().filter(|v| !(2.0..=3.0).contains(*v)).count() as u32;
+                x.iter().map(|v| v * v).sum::<f32>()
+            };
+            h.run(&mut obj, None, &Stop::default(), &mut []).unwrap();
+            assert_eq!(outside, 0, "{params:?}");
         }
     }
 

@@ -198,18 +198,34 @@ impl<const D: usize> Bounds<D> {
 
     /// Clamps `x` into the box; NaN coordinates go to the lower bound.
     pub fn clamp(&self, x: &mut [f32]) {
-        for ((v, l), u) in x.iter_mut().zip(self.lower()).zip(self.upper()) {
-            // A NaN becomes the lower bound, which keeps NaN out of every objective call.
-            // Comparisons rather than `max`/`min` (libm calls on Cortex-M4); the result is the
-            // same as `v.max(l).min(u)` except possibly for the sign of a zero on a zero bound.
-            *v = if v.is_nan() || *v < *l {
-                *l
-            } else if *v > *u {
-                *u
-            } else {
-                *v
-            };
+        for (v, (l, u)) in x.iter_mut().zip(self.pairs()) {
+            *v = clamp_into(*v, l, u);
         }
+    }
+
+    /// `(lower, upper)` per dimension.
+    pub(crate) fn pairs(&self) -> impl Iterator<Item = (f32, f32)> + '_ {
+        self.lower()
+            .iter()
+            .copied()
+            .zip(self.upper().iter().copied())
+    }
+}
+
+/// One coordinate of [`Bounds::clamp`], for loops that clamp while they compute a candidate.
+#[inline]
+#[allow(clippy::neg_cmp_op_on_partial_ord)]
+pub(crate) fn clamp_into(v: f32, l: f32, u: f32) -> f32 {
+    // A NaN becomes the lower bound, which keeps NaN out of every objective call. Comparisons
+    // rather than `max`/`min` (libm calls on Cortex-M4); the result is the same as
+    // `v.max(l).min(u)` except possibly for the sign of a zero on a zero bound.
+    // `!(v >= l)` is `v.is_nan() || v < l` in one comparison (unordered fails `>=`).
+    if !(v >= l) {
+        l
+    } else if v > u {
+        u
+    } else {
+        v
     }
 }
 

@@ -37,7 +37,7 @@
 //! - **GA**: per offspring pair: two tournaments (two `index` each), the crossover test, the
 //!   blend weight, then per gene of each child the mutation test and, if mutated, one normal.
 
-use rand_core::{Rng, SeedableRng};
+use rand_core::SeedableRng;
 use rand_xoshiro::Xoshiro128PlusPlus;
 
 /// Mantegna's `sigma_u` for `beta = 1.5`:
@@ -48,41 +48,69 @@ pub const LEVY_SIGMA_1_5: f32 = 0.696_574_2;
 pub const LEVY_BETA: f32 = 1.5;
 
 /// A seeded generator and the draws the optimizers need.
+///
+/// The `Xoshiro128PlusPlus` state words themselves, stepped here exactly as `rand_xoshiro`
+/// steps them (a test compares the sequences): a generator that can sit in a `const`
+/// initialiser without an `Option`, whose check cost every draw.
 #[derive(Debug, Clone)]
 pub struct Random {
-    /// `None` until seeded, so that a generator can sit in a `const` initialiser; an unseeded
-    /// generator draws as if seeded with 0.
-    rng: Option<Xoshiro128PlusPlus>,
+    s: [u32; 4],
+}
+
+/// `Xoshiro128PlusPlus::seed_from_u64(seed)`'s state in a `const fn`: two SplitMix64 words,
+/// little-endian, as `rand_xoshiro` fills its seed (they are never both zero, so its zero-seed
+/// remapping never applies).
+const fn splitmix_state(seed: u64) -> [u32; 4] {
+    const fn next(x: u64) -> u64 {
+        let mut z = x;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        z ^ (z >> 31)
+    }
+    const PHI: u64 = 0x9e37_79b9_7f4a_7c15;
+    let a = next(seed.wrapping_add(PHI));
+    let b = next(seed.wrapping_add(PHI).wrapping_add(PHI));
+    [a as u32, (a >> 32) as u32, b as u32, (b >> 32) as u32]
 }
 
 impl Random {
     /// A generator fully determined by `seed`.
     pub fn new(seed: u64) -> Self {
-        Self {
-            rng: Some(Xoshiro128PlusPlus::seed_from_u64(seed)),
-        }
+        let mut r = Self::unseeded();
+        r.reseed(seed);
+        r
     }
 
     /// A generator for `const` initialisers; draws as if seeded with 0 until reseeded.
     pub const fn unseeded() -> Self {
-        Self { rng: None }
+        Self {
+            s: splitmix_state(0),
+        }
     }
 
     /// Restarts the sequence of `seed`.
     pub fn reseed(&mut self, seed: u64) {
-        self.rng = Some(Xoshiro128PlusPlus::seed_from_u64(seed));
+        // Seeded by the crate itself; only the stepping is done here.
+        let bytes = Xoshiro128PlusPlus::seed_from_u64(seed).state();
+        for (w, b) in self.s.iter_mut().zip(bytes.chunks_exact(4)) {
+            if let Ok(b) = b.try_into() {
+                *w = u32::from_le_bytes(b);
+            }
+        }
     }
 
-    /// The next raw 32-bit word.
+    /// The next raw 32-bit word (`Xoshiro128PlusPlus::next_u32`).
     #[inline]
     pub fn next_u32(&mut self) -> u32 {
-        match &mut self.rng {
-            Some(rng) => rng.next_u32(),
-            None => self
-                .rng
-                .insert(Xoshiro128PlusPlus::seed_from_u64(0))
-                .next_u32(),
-        }
+        let [s0, s1, s2, s3] = self.s;
+        let result = s0.wrapping_add(s3).rotate_left(7).wrapping_add(s0);
+        let t = s1 << 9;
+        let s2 = s2 ^ s0;
+        let s3 = s3 ^ s1;
+        let s1 = s1 ^ s2;
+        let s0 = s0 ^ s3;
+        self.s = [s0, s1, s2 ^ t, s3.rotate_left(11)];
+        result
     }
 
     /// Uniform in `[0, 1)`.
@@ -167,20 +195,22 @@ impl Random {
 /// every target, so plans stay bit-identical between hosts and the MCU.
 pub fn cbrt_positive(x: f32) -> f32 {
     // Comparisons, not `max`, which is a libm call on Cortex-M4 and lets NaN through.
-    let x = if (f32::MIN_POSITIVE..=f32::MAX).contains(&x) {
-        x
+    // `!(x >= MIN_POSITIVE)` also catches NaN, in one comparison instead of a range test.
+    #[allow(clippy::neg_cmp_op_on_partial_ord)]
+    let x = if !(x >= f32::MIN_POSITIVE) {
+        f32::MIN_POSITIVE
     } else if x > f32::MAX {
         f32::MAX
     } else {
-        f32::MIN_POSITIVE
+        x
     };
     // Dividing the biased exponent by three: bits / 3 + 2/3 of the bias (709,958,130 is
     // musl's constant for the same estimate).
-    let mut y = f32::from_bits(x.to_bits() / 3 + 709_958_130);
-    for _ in 0..4 {
-        y = (2.0 * y + x / (y * y)) * (1.0 / 3.0);
-    }
-    y
+    let y = f32::from_bits(x.to_bits() / 3 + 709_958_130);
+    // Written out: firmware builds for size (`opt-level = "s"`) and would keep the loop
+    // counter and branch of `for _ in 0..4` (one Levy step per coordinate of every dive).
+    let newton = |y: f32| (2.0 * y + x / (y * y)) * (1.0 / 3.0);
+    newton(newton(newton(newton(y))))
 }
 
 #[cfg(test)]
@@ -200,6 +230,31 @@ mod tests {
             assert!((-2.0..=3.0).contains(&x));
         }
         assert_eq!(r.index(0), 0);
+    }
+
+    #[test]
+    fn steps_like_rand_xoshiro() {
+        use rand_core::Rng;
+        for seed in [0u64, 1, 42, 0x5EED_0008, u64::MAX, 0x9e37_79b9_7f4a_7c15] {
+            let mut ours = Random::new(seed);
+            let mut theirs = Xoshiro128PlusPlus::seed_from_u64(seed);
+            for _ in 0..10_000 {
+                assert_eq!(ours.next_u32(), theirs.next_u32(), "seed {seed}");
+            }
+        }
+        let mut unseeded = Random::unseeded();
+        let mut zero = Xoshiro128PlusPlus::seed_from_u64(0);
+        for _ in 0..100 {
+            assert_eq!(unseeded.next_u32(), zero.next_u32());
+        }
+        for seed in [0u64, 7, 0xdead_beef, u64::MAX] {
+            let bytes = Xoshiro128PlusPlus::seed_from_u64(seed).state();
+            let mut words = [0u32; 4];
+            for (w, b) in words.iter_mut().zip(bytes.chunks_exact(4)) {
+                *w = u32::from_le_bytes([b[0], b[1], b[2], b[3]]);
+            }
+            assert_eq!(splitmix_state(seed), words, "seed {seed}");
+        }
     }
 
     #[test]
