@@ -21,6 +21,9 @@
 //! - `line_of_sight_on_large_maps`: (d) the same oracle on sparse maps up to 300 x 300;
 //! - `segment_is_clear_is_conservative`: on fractional points, accepted => exactly clear,
 //!   and a segment a whole cell away from everything is accepted;
+//! - `blocked_cells_touched_counts_exactly`: the count of blocked (or outside) cells a
+//!   segment between cell centres touches equals the exact oracle's, for every pair within
+//!   one column of each other (the column encoding's steps) and a sample of others;
 //! - `hull_is_clear_proves_its_segments`: a hull accepted by `hull_is_clear` holds only
 //!   segments that `segment_is_clear` and the exact rule accept, and a hull a cell and a half
 //!   away from everything is accepted;
@@ -30,7 +33,8 @@
 
 use planner_core::PlanError;
 use planner_core::geometry::{
-    Cell, Point, hull_is_clear, hull_margin, line_of_sight, segment_clearance, segment_is_clear,
+    Cell, Point, blocked_cells_touched, hull_is_clear, hull_margin, line_of_sight,
+    segment_clearance, segment_is_clear,
 };
 use planner_core::grid::{Grid, words_for};
 use planner_core::path::{self, Path};
@@ -607,6 +611,45 @@ proptest! {
                     && segment_ok(&m, (a.x as i64, a.y as i64), (b.x as i64, b.y as i64));
                 prop_assert_eq!(line_of_sight(g, a, b), want, "{:?} -> {:?}", a, b);
                 prop_assert_eq!(line_of_sight(g, b, a), want, "{:?} -> {:?}", b, a);
+            }
+        }
+    }
+
+    /// (d) `blocked_cells_touched` counts exactly the blocked or outside cells that the
+    /// exact oracle says the segment touches: every pair at most one column apart (both
+    /// orders), and every pair from a few random cells.
+    #[test]
+    fn blocked_cells_touched_counts_exactly(m in map_strategy(), seed in any::<u64>()) {
+        let grid = m.grid();
+        let g = grid.view();
+        let oracle = |a: Cell, b: Cell| {
+            let (sa, sb) = (
+                (a.x as i64 * FRAC, a.y as i64 * FRAC),
+                (b.x as i64 * FRAC, b.y as i64 * FRAC),
+            );
+            let (x0, x1) = (a.x.min(b.x) as i64 - 1, a.x.max(b.x) as i64 + 1);
+            let (y0, y1) = (a.y.min(b.y) as i64 - 1, a.y.max(b.y) as i64 + 1);
+            (y0..=y1)
+                .flat_map(|y| (x0..=x1).map(move |x| (x, y)))
+                .filter(|&(x, y)| m.blocked(x, y) && touches_box(sa, sb, (x, y), FRAC / 2))
+                .count() as u32
+        };
+        let cells: Vec<Cell> = (0..m.h as u16 + 1)
+            .flat_map(|y| (0..m.w as u16 + 1).map(move |x| Cell::new(x, y)))
+            .collect();
+        for &a in &cells {
+            for &b in &cells {
+                if a.x.abs_diff(b.x) <= 1 {
+                    prop_assert_eq!(blocked_cells_touched(g, a, b), oracle(a, b), "{:?} -> {:?}", a, b);
+                }
+            }
+        }
+        let mut rng = seed;
+        for _ in 0..4 {
+            rng = rng.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            let a = cells[(rng >> 33) as usize % cells.len()];
+            for &b in &cells {
+                prop_assert_eq!(blocked_cells_touched(g, a, b), oracle(a, b), "{:?} -> {:?}", a, b);
             }
         }
     }
