@@ -133,6 +133,9 @@ pub fn line_of_sight(grid: GridRef<'_>, a: Cell, b: Cell) -> bool {
 /// graded measure of "how blocked" a segment is, for penalties that guide an optimizer.
 pub fn blocked_cells_touched(grid: GridRef<'_>, a: Cell, b: Cell) -> u32 {
     let (dx, dy) = (b.x as i64 - a.x as i64, b.y as i64 - a.y as i64);
+    if dx.abs() <= 1 {
+        return steep_blocked_cells(grid, a, b);
+    }
     let mut count = 0;
     if dy.abs() > dx.abs() {
         exact_strips(
@@ -154,6 +157,33 @@ pub fn blocked_cells_touched(grid: GridRef<'_>, a: Cell, b: Cell) -> u32 {
         );
     }
     count
+}
+
+/// [`blocked_cells_touched`] for a segment at most one column wide (seed 000's column
+/// encoding is made of them): [`exact_strips`] over its one or two columns with `du = 1`
+/// written out, so that its divisions become shifts. In half cells, column `x0` holds the
+/// segment's `v` from `2 y0` to `y0 + y1` (its height at the column boundary), column `x1`
+/// from there to `2 y1`; a cell `p` is touched when `[2p - 1, 2p + 1]` meets that range.
+fn steep_blocked_cells(grid: GridRef<'_>, a: Cell, b: Cell) -> u32 {
+    let (a, b) = if a.x <= b.x { (a, b) } else { (b, a) };
+    let (x0, y0, y1) = (a.x as isize, a.y as isize, b.y as isize);
+    if a.x == b.x {
+        return grid.column_run_count(x0, y0.min(y1), y0.max(y1));
+    }
+    if y0 == y1 {
+        return grid.row_run_count(y0, x0, x0 + 1);
+    }
+    // Rows touched by the half-cell range [lo2, hi2]: ceil((lo2 - 1) / 2) ..= floor((hi2 + 1) / 2).
+    let run = |x: isize, from2: isize, to2: isize| {
+        let (lo2, hi2) = if from2 <= to2 {
+            (from2, to2)
+        } else {
+            (to2, from2)
+        };
+        grid.column_run_count(x, -((1 - lo2) >> 1), (hi2 + 1) >> 1)
+    };
+    let mid2 = y0 + y1;
+    run(x0, 2 * y0, mid2) + run(x0 + 1, mid2, 2 * y1)
 }
 
 /// The exact rule in strip form, for a segment between lattice points `(u, v)`: strip `s`

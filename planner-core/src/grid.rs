@@ -345,6 +345,11 @@ impl<'a> GridRef<'a> {
         if x0 > x1 {
             return 0;
         }
+        // The common case first: a run on the map.
+        if x0 >= 0 && y >= 0 && (x1 as usize) < self.width && (y as usize) < self.height {
+            let base = y as usize * self.width;
+            return count_set(self.bits, base + x0 as usize, base + x1 as usize);
+        }
         let inside_lo = x0.max(0);
         let inside_hi = x1.min(self.width as isize - 1);
         let outside = (x1 - x0 + 1) as u32 - (inside_hi - inside_lo + 1).max(0) as u32;
@@ -364,6 +369,10 @@ impl<'a> GridRef<'a> {
     pub fn column_run_count(&self, x: isize, y0: isize, y1: isize) -> u32 {
         if y0 > y1 {
             return 0;
+        }
+        if y0 >= 0 && x >= 0 && (y1 as usize) < self.height && (x as usize) < self.width {
+            let base = x as usize * self.height;
+            return count_set(self.columns, base + y0 as usize, base + y1 as usize);
         }
         let inside_lo = y0.max(0);
         let inside_hi = y1.min(self.height as isize - 1);

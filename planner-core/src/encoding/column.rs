@@ -40,18 +40,23 @@ impl<'g> ColumnEncoding<'g> {
 
     fn row(&self, v: f32) -> u16 {
         let max = (self.grid.height() - 1) as f32;
-        // `roundf` (half away from zero) without the libm call, which is a fifth of an
-        // evaluation: below 2^23 the fraction `v - trunc(v)` is exact, and every value it
-        // gets wrong (negative, NaN, beyond `i32`) is clamped to the same row as `roundf`'s.
-        let t = v as i32 as f32;
-        let r = if v - t >= 0.5 { t + 1.0 } else { t };
-        // NaN became 0 above; the comparisons keep the clamp free of libm calls too.
-        if r < 0.0 {
-            0
-        } else if r > max {
+        // `roundf` (half away from zero) without the libm call or saturating float-to-integer
+        // casts, which were most of an evaluation. On the map (`0 <= v <= max < 2^16`, NaN
+        // fails both tests): adding and removing 2^23 rounds `v` to an integer exactly, a
+        // step back gives `floor(v)`, the fraction `v - floor(v)` is exact, and an integral
+        // float below 2^23 plus 2^23 holds its value in its low mantissa bits. Every other
+        // value goes to the row `roundf` and the clamp would give: `max` above, 0 below or
+        // for NaN.
+        const TWO_23: f32 = 8_388_608.0;
+        if v >= 0.0 && v <= max {
+            let nearest = (v + TWO_23) - TWO_23;
+            let floor = if nearest > v { nearest - 1.0 } else { nearest };
+            let r = if v - floor >= 0.5 { floor + 1.0 } else { floor };
+            (r + TWO_23).to_bits() as u16
+        } else if v > max {
             max as u16
         } else {
-            r as u16
+            0
         }
     }
 
@@ -112,8 +117,9 @@ impl<'g> ColumnEncoding<'g> {
 
 /// Euclidean length of the segment between two cell centres.
 fn step_length(from: Cell, to: Cell) -> f32 {
-    let dx = to.x as f32 - from.x as f32;
-    let dy = to.y as f32 - from.y as f32;
+    // Integer differences, then one conversion each: the same exact values.
+    let dx = (i32::from(to.x) - i32::from(from.x)) as f32;
+    let dy = (i32::from(to.y) - i32::from(from.y)) as f32;
     crate::math::sqrt(dx * dx + dy * dy)
 }
 
@@ -220,6 +226,58 @@ mod tests {
         );
         assert!(enc.cost(&[0.0, 0.0, 0.0, 3.0]) < 10.0);
         assert!(enc.cost(&[f32::NAN, 0.0, 0.0, 3.0]).is_finite());
+    }
+
+    #[test]
+    fn rows_round_half_away_from_zero_and_clamp() {
+        let g: Grid<{ words_for(4, 40) }> = Grid::new(4, 40).unwrap();
+        let enc = ColumnEncoding::new(g.view(), Cell::new(0, 0), Cell::new(3, 3)).unwrap();
+        let want = |v: f32| {
+            let r = libm::roundf(v);
+            if r.is_nan() || r < 0.0 {
+                0
+            } else {
+                r.min(39.0) as u16
+            }
+        };
+        let fixed = [
+            0.0,
+            -0.0,
+            0.5,
+            0.499_999_97,
+            1.5,
+            2.5,
+            38.5,
+            38.499_996,
+            39.0,
+            39.4,
+            39.5,
+            40.0,
+            -0.4,
+            -0.5,
+            -3.7,
+            f32::NAN,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+            1e9,
+            -1e9,
+            f32::MIN_POSITIVE,
+        ];
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let random = core::iter::repeat_with(|| {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            [
+                (state >> 40) as f32 / (1u64 << 24) as f32 * 50.0 - 5.0,
+                f32::from_bits(state as u32),
+            ]
+        })
+        .take(100_000)
+        .flatten();
+        for v in fixed.into_iter().chain(random) {
+            assert_eq!(enc.row(v), want(v), "{v} ({:#x})", v.to_bits());
+        }
     }
 
     #[test]
