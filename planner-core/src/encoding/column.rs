@@ -40,19 +40,15 @@ impl<'g> ColumnEncoding<'g> {
 
     fn row(&self, v: f32) -> u16 {
         let max = (self.grid.height() - 1) as f32;
-        // `roundf` (half away from zero) without the libm call or saturating float-to-integer
-        // casts, which were most of an evaluation. On the map (`0 <= v <= max < 2^16`, NaN
-        // fails both tests): adding and removing 2^23 rounds `v` to an integer exactly, a
-        // step back gives `floor(v)`, the fraction `v - floor(v)` is exact, and an integral
-        // float below 2^23 plus 2^23 holds its value in its low mantissa bits. Every other
-        // value goes to the row `roundf` and the clamp would give: `max` above, 0 below or
-        // for NaN.
-        const TWO_23: f32 = 8_388_608.0;
+        // `roundf` (half away from zero) and the clamp without the libm call, which was a
+        // fifth of an evaluation, and with one float-to-integer cast instead of three (each
+        // saturating, a handful of instructions on x86_64). On the map (`0 <= v <= max <
+        // 2^16`; NaN fails both tests) the cast truncates exactly and the fraction
+        // `v - trunc(v)` is exact; every other value goes where `roundf` and the clamp put
+        // it: `max` above, 0 below and for NaN.
         if v >= 0.0 && v <= max {
-            let nearest = (v + TWO_23) - TWO_23;
-            let floor = if nearest > v { nearest - 1.0 } else { nearest };
-            let r = if v - floor >= 0.5 { floor + 1.0 } else { floor };
-            (r + TWO_23).to_bits() as u16
+            let t = v as u32;
+            (t + u32::from(v - t as f32 >= 0.5)) as u16
         } else if v > max {
             max as u16
         } else {
