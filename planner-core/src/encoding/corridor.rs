@@ -374,6 +374,13 @@ impl<'a> CorridorEncoding<'a> {
         total
     }
 
+    /// [`lower`](Self::lower) once more legs are known to need a repair: out of line, so
+    /// that the evaluation holds one more copy of the loop, not two (flash on an MCU).
+    #[inline(never)]
+    fn lower_after_repair(&self, x: &[f32], repaired: LegSet) -> f32 {
+        self.lower(x, repaired)
+    }
+
     /// Tests interval pair `(i, j)` of leg `s` into the cache; whether all its legs are clear.
     /// Out of line: it runs a few hundred times per plan, and inlined, its locals would
     /// deepen the stack frame of every evaluation.
@@ -466,7 +473,7 @@ impl Encoding for CorridorEncoding<'_> {
                 clear |= leg_bit(s);
             } else {
                 repaired |= leg_bit(s);
-                let bound_now = self.lower(x, repaired);
+                let bound_now = self.lower_after_repair(x, repaired);
                 if bound_now >= bound {
                     self.decisive = s;
                     return bound_now;
@@ -491,7 +498,7 @@ impl Encoding for CorridorEncoding<'_> {
                 if repaired & bit == 0 {
                     repaired |= bit;
                     self.hot |= bit;
-                    let bound_now = self.lower(x, repaired);
+                    let bound_now = self.lower_after_repair(x, repaired);
                     if bound_now >= bound {
                         self.decisive = s;
                         return bound_now;
