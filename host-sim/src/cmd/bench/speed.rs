@@ -190,6 +190,18 @@ pub fn run(args: &SpeedArgs) -> anyhow::Result<()> {
             "1.0".into(),
             fmt(l_astar, 3),
         ]);
+        // One row of the table and of the JSON (no length for an optimizer alone).
+        let mut push = |label: String, stop: String, t: f64, length: Option<f64>| {
+            records.push(serde_json::json!({"map": name, "planner": label, "stop": stop, "ms": t * 1e3, "ratio_to_astar": t / t_astar, "mean_length": length}));
+            table.push(vec![
+                name.into(),
+                label,
+                stop,
+                fmt(t * 1e3, 3),
+                fmt(t / t_astar, 1),
+                length.map_or("-".into(), |l| fmt(l, 3)),
+            ]);
+        };
         for &kind in &kinds {
             let mut dimension = f64::NAN;
             for stagnation in [None, Some(args.stagnation)] {
@@ -201,30 +213,13 @@ pub fn run(args: &SpeedArgs) -> anyhow::Result<()> {
                 let label = format!("{} {}", kind.name(), encoding.name());
                 let stop =
                     stagnation.map_or("500 iterations".to_string(), |s| format!("stagnation {s}"));
-                records.push(serde_json::json!({"map": name, "planner": label, "stop": stop, "ms": t * 1e3, "ratio_to_astar": t / t_astar, "mean_length": l}));
-                table.push(vec![
-                    name.into(),
-                    label,
-                    stop,
-                    fmt(t * 1e3, 3),
-                    fmt(t / t_astar, 1),
-                    fmt(l, 3),
-                ]);
+                push(label, stop, t, Some(l));
             }
             if let (PlannerKind::Swarm(algo), true) = (kind, dimension.is_finite()) {
                 let dim = dimension.round() as usize;
                 let t = optimizer_floor(algo, dim, base.population, base.iterations, rows.len())?;
                 let label = format!("{} alone, D = {dim}", kind.name());
-                let stop = format!("{} iterations", base.iterations);
-                records.push(serde_json::json!({"map": name, "planner": label, "stop": stop, "ms": t * 1e3, "ratio_to_astar": t / t_astar, "mean_length": null}));
-                table.push(vec![
-                    name.into(),
-                    label,
-                    stop,
-                    fmt(t * 1e3, 3),
-                    fmt(t / t_astar, 1),
-                    "-".into(),
-                ]);
+                push(label, format!("{} iterations", base.iterations), t, None);
             }
         }
     }
