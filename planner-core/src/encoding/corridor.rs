@@ -57,9 +57,7 @@ impl Station {
         tested: 0,
         clear: 0,
     };
-}
 
-impl Station {
     /// The waypoint at offset `v` in `[-1, 1]` (for a movable station).
     #[inline(always)]
     fn slide(&self, v: f32) -> Point {
@@ -338,8 +336,9 @@ impl<'a> CorridorEncoding<'a> {
     /// cost in `f32` too: round-to-nearest addition is monotone.
     #[inline(always)]
     fn lower(&self, x: &[f32], repaired: LegSet) -> f32 {
-        // The usual case walks the movable stations and the variables side by side: no
-        // index checks or end tests per leg (a third of the evaluation on a Cortex-M4).
+        // The usual case walks the movable stations and the variables side by side, without
+        // an index check or end test per leg: this is the hottest loop of a plan on a
+        // Cortex-M4 (every bounded evaluation starts with it).
         if let Some((first, rest)) = self.stations.split_first()
             && let Some((last, movable)) = rest.split_last()
             && x.len() >= movable.len()
