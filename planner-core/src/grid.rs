@@ -341,52 +341,15 @@ impl<'a> GridRef<'a> {
     }
 
     /// Number of blocked cells in row `y`, columns `x0..=x1` (cells outside the map count).
+    #[inline]
     pub fn row_run_count(&self, y: isize, x0: isize, x1: isize) -> u32 {
-        if x0 > x1 {
-            return 0;
-        }
-        // The common case first: a run on the map.
-        if x0 >= 0 && y >= 0 && (x1 as usize) < self.width && (y as usize) < self.height {
-            let base = y as usize * self.width;
-            return count_set(self.bits, base + x0 as usize, base + x1 as usize);
-        }
-        let inside_lo = x0.max(0);
-        let inside_hi = x1.min(self.width as isize - 1);
-        let outside = (x1 - x0 + 1) as u32 - (inside_hi - inside_lo + 1).max(0) as u32;
-        if y < 0 || y as usize >= self.height || inside_lo > inside_hi {
-            return (x1 - x0 + 1) as u32;
-        }
-        let base = y as usize * self.width;
-        outside
-            + count_set(
-                self.bits,
-                base + inside_lo as usize,
-                base + inside_hi as usize,
-            )
+        run_count(self.bits, self.height, self.width, y, x0, x1)
     }
 
     /// Number of blocked cells in column `x`, rows `y0..=y1` (cells outside the map count).
+    #[inline]
     pub fn column_run_count(&self, x: isize, y0: isize, y1: isize) -> u32 {
-        if y0 > y1 {
-            return 0;
-        }
-        if y0 >= 0 && x >= 0 && (y1 as usize) < self.height && (x as usize) < self.width {
-            let base = x as usize * self.height;
-            return count_set(self.columns, base + y0 as usize, base + y1 as usize);
-        }
-        let inside_lo = y0.max(0);
-        let inside_hi = y1.min(self.height as isize - 1);
-        let outside = (y1 - y0 + 1) as u32 - (inside_hi - inside_lo + 1).max(0) as u32;
-        if x < 0 || x as usize >= self.width || inside_lo > inside_hi {
-            return (y1 - y0 + 1) as u32;
-        }
-        let base = x as usize * self.height;
-        outside
-            + count_set(
-                self.columns,
-                base + inside_lo as usize,
-                base + inside_hi as usize,
-            )
+        run_count(self.columns, self.width, self.height, x, y0, y1)
     }
 
     /// Whether a cell is on the map and free.
@@ -441,6 +404,23 @@ fn any_set(bits: &[u32], first: usize, last: usize) -> bool {
         }
         _ => true,
     }
+}
+
+/// Blocked cells at positions `lo..=hi` of line `line` in a bitset of `lines` lines of `len`
+/// cells each (rows or columns); positions and lines off the map count as blocked.
+#[inline]
+fn run_count(bits: &[u32], lines: usize, len: usize, line: isize, lo: isize, hi: isize) -> u32 {
+    if lo > hi {
+        return 0;
+    }
+    let span = (hi - lo + 1) as u32;
+    let (inside_lo, inside_hi) = (lo.max(0), hi.min(len as isize - 1));
+    if line < 0 || line as usize >= lines || inside_lo > inside_hi {
+        return span;
+    }
+    let base = line as usize * len;
+    let inside = (inside_hi - inside_lo + 1) as u32;
+    span - inside + count_set(bits, base + inside_lo as usize, base + inside_hi as usize)
 }
 
 /// Number of set bits in `first..=last` (missing words count as all set).
