@@ -96,28 +96,37 @@ fn check_contract<E: Encoding>(enc: &mut E, seed: u64) {
     assert!(below > 500 && above > 500, "{below} below, {above} above");
 }
 
-#[test]
-fn corridor_cost_below_keeps_its_contract() {
+/// The corridor over the warehouse's A* route, stations every `spacing` cells, at most
+/// `max_vars` variables (the station buffer holds them all).
+fn corridor_contract(spacing: f32, max_vars: usize, seed: u64) -> usize {
     let map = warehouse();
     let guide = guide(&map);
-    let mut stations = [Station::EMPTY; 66];
-    let mut enc =
-        CorridorEncoding::build(map.grid.view(), &guide, 8.0, 5.0, 64, &mut stations).unwrap();
-    assert!(enc.dim() > 5, "{}", enc.dim());
-    check_contract(&mut enc, 7);
+    let mut stations = vec![Station::EMPTY; max_vars + 2];
+    let mut enc = CorridorEncoding::build(
+        map.grid.view(),
+        &guide,
+        spacing,
+        5.0,
+        max_vars,
+        &mut stations,
+    )
+    .unwrap();
+    check_contract(&mut enc, seed);
+    enc.dim()
+}
+
+#[test]
+fn corridor_cost_below_keeps_its_contract() {
+    let dim = corridor_contract(8.0, 64, 7);
+    assert!(dim > 5, "{dim}");
 }
 
 /// More legs than a leg set holds (64): the legs beyond are checked in order and lift the
 /// bound only when reached.
 #[test]
 fn corridor_cost_below_keeps_its_contract_beyond_64_legs() {
-    let map = warehouse();
-    let guide = guide(&map);
-    let mut stations = [Station::EMPTY; 130];
-    let mut enc =
-        CorridorEncoding::build(map.grid.view(), &guide, 1.0, 5.0, 128, &mut stations).unwrap();
-    assert!(enc.dim() + 1 > 64, "{} legs", enc.dim() + 1);
-    check_contract(&mut enc, 13);
+    let dim = corridor_contract(1.0, 128, 13);
+    assert!(dim + 1 > 64, "{} legs", dim + 1);
 }
 
 #[test]

@@ -359,6 +359,9 @@ impl<'a> CorridorEncoding<'a> {
             }
             return total + leg(movable.len(), a, last.point);
         }
+        // Fewer variables than movable stations (never from an optimizer): by index, with
+        // `waypoint`'s default offset. One loop over a chain of the two cases, a fold or a
+        // closure instead cost 2-13% more instructions per plan on the Cortex-M4.
         let mut total = 0.0;
         let mut a = self.waypoint(0, x);
         for s in 0..self.stations.len() - 1 {
