@@ -103,9 +103,27 @@ const EXTENT_STEP: f32 = 0.25;
 /// is refined to `EXTENT_STEP / 2^EXTENT_BISECTIONS` (under 1e-3 cells).
 const EXTENT_BISECTIONS: u32 = 9;
 
-/// Factor on a straight leg in a lower bound of the cost: `1 - 2^-20`, well below the
-/// relative rounding error of a repaired leg's three-term sum (a few `2^-24`).
-const STRAIGHT_SHRINK: f32 = 1.0 - 1.0 / 1_048_576.0;
+/// Most movable stations, whatever the capacity (see [`slack`]).
+const MAX_MOVABLE: usize = 998;
+
+/// The factor that turns a sum of leg lengths, some straight where the cost has them
+/// repaired, into a lower bound of the cost in `f32`, for `legs` legs: `1 - (5 legs + 8)
+/// 2^-24` (exact in `f32` up to [`MAX_MOVABLE`]).
+///
+/// The bound is raised leg by leg as repairs are found, not summed again in the cost's order
+/// (a walk over every leg per repair was a seventh of a plan on a Cortex-M4), so monotone
+/// rounding alone does not keep it below the cost. With `u = 2^-24` and `T` the real sum of
+/// the cost's terms: the cost, a recursive `f32` sum of `legs` terms, is at least
+/// `T (1 - legs u)`. The raised sum adds at most `2 legs` terms (straight lengths, then one
+/// rounded difference per repair) whose magnitudes total at most `2 T`, so it is at most
+/// `T (1 + 4 legs u)` plus `5 u T` for a repaired leg computed a few ulps shorter than its
+/// straight one and for the rounded differences. Shrinking by `(5 legs + 8) u` covers all
+/// of it and the product's own rounding: a candidate is rejected early only when its cost is
+/// at or above the bound, so costs and accept or reject decisions are bit for bit those of
+/// the exact sum.
+fn slack(legs: usize) -> f32 {
+    1.0 - (5 * legs + 8) as f32 * (1.0 / 16_777_216.0)
+}
 
 /// The corridor encoding over a guide route.
 ///
@@ -130,6 +148,8 @@ pub struct CorridorEncoding<'a> {
     hot: LegSet,
     /// The leg whose repair last proved a bounded cost too high: checked first next time.
     decisive: usize,
+    /// [`slack`] for the legs here.
+    slack: f32,
 }
 
 /// A set of legs, bit `s` for leg `s`. One machine word or two: a `u128` would take four
@@ -147,7 +167,7 @@ impl<'a> CorridorEncoding<'a> {
     /// Builds the stations over `guide` (a valid path, start first) into `stations`.
     ///
     /// `spacing` is the guide length between stations (cells); the number of movable stations
-    /// is capped by `max_vars` and by `stations.len() - 2`. `radius` caps the lateral reach.
+    /// is capped by `max_vars`, by `stations.len() - 2` and at 998. `radius` caps the lateral reach.
     /// Errors: [`PlanError::InvalidParameters`] for a NaN, infinite or non-positive `spacing`
     /// or `radius`, or a guide with fewer than two points.
     pub fn build(
@@ -193,7 +213,10 @@ impl<'a> CorridorEncoding<'a> {
         };
         let mut count = 0usize;
         candidates(&mut |_| count += 1);
-        let k = count.min(max_vars).min(stations.len().saturating_sub(2));
+        let k = count
+            .min(max_vars)
+            .min(MAX_MOVABLE)
+            .min(stations.len().saturating_sub(2));
         // Thin evenly when there are more candidates than variables.
         stations[0] = Station {
             index: 0,
@@ -277,6 +300,7 @@ impl<'a> CorridorEncoding<'a> {
             margin: hull_margin(grid),
             hot: 0,
             decisive: 0,
+            slack: slack(k + 1),
         })
     }
 
@@ -328,14 +352,11 @@ impl<'a> CorridorEncoding<'a> {
         (self.at(s, v), v)
     }
 
-    /// A lower bound of the cost of `x`: legs in `repaired` (bit `s` for leg `s`) repaired,
-    /// the others straight. A repaired leg is never shorter than the straight one (triangle
-    /// inequality), so straight legs in place of the unchecked ones bound the cost from
-    /// below. Summed in the exact cost's order, with straight legs shrunk by a few ulps (a
-    /// repair along the straight line may round a hair below it), the bound stays below the
-    /// cost in `f32` too: round-to-nearest addition is monotone.
+    /// The sum of the straight legs of `x`, in the cost's order. A repaired leg is never
+    /// shorter than the straight one (triangle inequality), so this bounds the cost from
+    /// below, once shrunk by [`slack`] for rounding.
     #[inline(always)]
-    fn lower(&self, x: &[f32], repaired: LegSet) -> f32 {
+    fn straight(&self, x: &[f32]) -> f32 {
         // The usual case walks the movable stations and the variables side by side, without
         // an index check or end test per leg: this is the hottest loop of a plan on a
         // Cortex-M4 (every bounded evaluation starts with it).
@@ -343,21 +364,14 @@ impl<'a> CorridorEncoding<'a> {
             && let Some((last, movable)) = rest.split_last()
             && x.len() >= movable.len()
         {
-            let leg = |s: usize, a: Point, b: Point| {
-                if leg_bit(s) & repaired != 0 {
-                    self.repaired_leg(s, a, b)
-                } else {
-                    a.distance(b) * STRAIGHT_SHRINK
-                }
-            };
             let mut total = 0.0;
             let mut a = first.point;
-            for (s, (st, &v)) in movable.iter().zip(x).enumerate() {
+            for (st, &v) in movable.iter().zip(x) {
                 let b = st.slide(offset_of(v));
-                total += leg(s, a, b);
+                total += a.distance(b);
                 a = b;
             }
-            return total + leg(movable.len(), a, last.point);
+            return total + a.distance(last.point);
         }
         // Fewer variables than movable stations (never from an optimizer): by index, with
         // `waypoint`'s default offset. One loop over a chain of the two cases, a fold or a
@@ -366,21 +380,19 @@ impl<'a> CorridorEncoding<'a> {
         let mut a = self.waypoint(0, x);
         for s in 0..self.stations.len() - 1 {
             let b = self.waypoint(s + 1, x);
-            total += if leg_bit(s) & repaired != 0 {
-                self.repaired_leg(s, a, b)
-            } else {
-                a.distance(b) * STRAIGHT_SHRINK
-            };
+            total += a.distance(b);
             a = b;
         }
         total
     }
 
-    /// [`lower`](Self::lower) once more legs are known to need a repair: out of line, so
-    /// that the evaluation holds one more copy of the loop, not two (flash on an MCU).
-    #[inline(never)]
-    fn lower_after_repair(&self, x: &[f32], repaired: LegSet) -> f32 {
-        self.lower(x, repaired)
+    /// Raises `sum` (the [`straight`](Self::straight) sum, or one raised before) by leg `s`
+    /// (`a -> b`), now known to need a repair: its repaired length in place of its straight
+    /// one. Returns the raised sum shrunk by [`slack`]: a lower bound of the cost.
+    #[inline(always)]
+    fn raise(&self, sum: &mut f32, s: usize, a: Point, b: Point) -> f32 {
+        *sum += self.repaired_leg(s, a, b) - a.distance(b);
+        *sum * self.slack
     }
 
     /// Tests interval pair `(i, j)` of leg `s` into the cache; whether all its legs are clear.
@@ -451,9 +463,9 @@ impl Encoding for CorridorEncoding<'_> {
             return self.cost(x);
         }
         let legs = self.stations.len() - 1;
-        let first = self.lower(x, 0);
-        if first >= bound {
-            return first;
+        let mut sum = self.straight(x);
+        if sum * self.slack >= bound {
+            return sum * self.slack;
         }
         // Legs that needed a repair in earlier evaluations are checked first, the one that
         // settled the previous bounded evaluation before the others: one of them is usually
@@ -475,7 +487,7 @@ impl Encoding for CorridorEncoding<'_> {
                 clear |= leg_bit(s);
             } else {
                 repaired |= leg_bit(s);
-                let bound_now = self.lower_after_repair(x, repaired);
+                let bound_now = self.raise(&mut sum, s, a.0, b.0);
                 if bound_now >= bound {
                     self.decisive = s;
                     return bound_now;
@@ -500,7 +512,7 @@ impl Encoding for CorridorEncoding<'_> {
                 if repaired & bit == 0 {
                     repaired |= bit;
                     self.hot |= bit;
-                    let bound_now = self.lower_after_repair(x, repaired);
+                    let bound_now = self.raise(&mut sum, s, a.0, b.0);
                     if bound_now >= bound {
                         self.decisive = s;
                         return bound_now;
