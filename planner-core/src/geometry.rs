@@ -275,12 +275,15 @@ fn div_ceil<T: StripInt>(a: T, b: T) -> T {
 pub fn segment_is_clear(grid: GridRef<'_>, a: Point, b: Point) -> bool {
     // Between cell centres the exact rule decides (the planners use it, so their paths
     // always validate); `f32` rounding would otherwise reject some of them on big maps.
-    if let (Some(ca), Some(cb)) = (centre_cell(a), centre_cell(b)) {
+    // (`b` is looked at only when `a` is a centre: waypoints between stations rarely are.)
+    if let Some(ca) = centre_cell(a)
+        && let Some(cb) = centre_cell(b)
+    {
         return line_of_sight(grid, ca, cb);
     }
+    // NaN fails every comparison and an infinity one of them: no separate finiteness test.
     let inside = |p: Point| {
-        p.is_finite()
-            && p.x > -0.5 + TOUCH_EPS
+        p.x > -0.5 + TOUCH_EPS
             && p.y > -0.5 + TOUCH_EPS
             && p.x < grid.width() as f32 - 0.5 - TOUCH_EPS
             && p.y < grid.height() as f32 - 0.5 - TOUCH_EPS
@@ -359,7 +362,9 @@ fn ordered(a: f32, b: f32) -> (f32, f32) {
 
 /// The cell whose centre is exactly `p`, if `p` has integral coordinates in `u16` range.
 fn centre_cell(p: Point) -> Option<Cell> {
-    let integral = |v: f32| v >= 0.0 && v <= u16::MAX as f32 && (v as u16) as f32 == v;
+    // The cast saturates (NaN to 0), so only integers in `0..=u16::MAX` come back equal
+    // (and -0.0, which is 0).
+    let integral = |v: f32| (v as u16) as f32 == v;
     (integral(p.x) && integral(p.y)).then(|| Cell::new(p.x as u16, p.y as u16))
 }
 

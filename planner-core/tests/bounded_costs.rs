@@ -129,6 +129,43 @@ fn corridor_cost_below_keeps_its_contract_beyond_64_legs() {
     assert!(dim + 1 > 64, "{} legs", dim + 1);
 }
 
+/// Variables beyond `[-1, 1]` or NaN (never from an optimizer, which keeps them in the box)
+/// are clamped, or taken as 0, by the bounded evaluation as by the exact one.
+#[test]
+fn corridor_cost_below_keeps_its_contract_out_of_range() {
+    let map = warehouse();
+    let guide = guide(&map);
+    let mut stations = vec![Station::EMPTY; 66];
+    let mut enc =
+        CorridorEncoding::build(map.grid.view(), &guide, 8.0, 5.0, 64, &mut stations).unwrap();
+    let mut rng = XorShift(21);
+    let mut outside = 0;
+    for k in 0..2000 {
+        let reach = if k % 2 == 0 { 3.0 } else { 1.9 };
+        let x: Vec<f32> = (0..enc.dim())
+            .map(|i| match (k + i) % 37 {
+                0 => f32::NAN,
+                _ => reach * (rng.unit() - 0.5),
+            })
+            .collect();
+        outside += usize::from(x.iter().any(|v| v.is_nan() || v.abs() > 1.0));
+        let exact = enc.cost(&x);
+        assert!(exact.is_finite(), "{x:?}");
+        for bound in [exact, exact * 1.01, exact * 0.99] {
+            let got = enc.cost_below(&x, bound);
+            if exact < bound {
+                assert_eq!(got.to_bits(), exact.to_bits(), "x {x:?} bound {bound}");
+            } else {
+                assert!(
+                    got >= bound && got <= exact,
+                    "x {x:?}: {got}, bound {bound}"
+                );
+            }
+        }
+    }
+    assert!(outside > 1000, "{outside}");
+}
+
 #[test]
 fn column_cost_below_keeps_its_contract() {
     let map = warehouse();
