@@ -61,7 +61,7 @@
 
 use crate::geometry::Point;
 use crate::grid::GridRef;
-use crate::math::{clamp, sqrt};
+use crate::math::{at_least_zero, clamp, lesser, sqrt};
 use core::f32::consts::PI;
 
 /// Speeds below this (cells/s) count as standing.
@@ -746,10 +746,20 @@ impl Dwa {
             let cl = point_clearance(grid, Point::new(x, y), c.clearance_cap + c.radius) - c.radius;
             min_clear = min_clear.min(cl.max(0.0));
         }
+        // The heading turns by the same angle every step, so its cosine and sine are rotated
+        // along instead of computed per step: libm's `sinf`/`cosf` work in `f64`, which a
+        // Cortex-M4F emulates in software (they were two thirds of a control step there).
+        // Over the 30 steps of a roll-out the rotation drifts by a few ulps.
+        let (turn_sin, turn_cos) = libm::sincosf(w * c.dt);
+        let (mut sin_th, mut cos_th) = libm::sincosf(th);
         for k in 1..=steps {
             th += w * c.dt;
-            x += v * libm::cosf(th) * c.dt;
-            y += v * libm::sinf(th) * c.dt;
+            (cos_th, sin_th) = (
+                cos_th * turn_cos - sin_th * turn_sin,
+                sin_th * turn_cos + cos_th * turn_sin,
+            );
+            x += v * cos_th * c.dt;
+            y += v * sin_th * c.dt;
             arc += v.abs() * c.dt;
             let t = k as f32 * c.dt;
             let p = Point::new(x, y);
@@ -763,7 +773,7 @@ impl Dwa {
                     if dc <= CONTACT_MARGIN && d.vx * d.vx + d.vy * d.vy > 0.0025 {
                         return None;
                     }
-                    cl = cl.min(dc);
+                    cl = lesser(cl, dc);
                 }
             }
             if cl <= CONTACT_MARGIN {
@@ -776,7 +786,7 @@ impl Dwa {
                 }
                 return None;
             }
-            min_clear = min_clear.min(cl);
+            min_clear = lesser(min_clear, cl);
             if standing && w.abs() < 1e-6 {
                 break;
             }
@@ -917,14 +927,16 @@ pub fn point_clearance(grid: GridRef<'_>, p: Point, cap: f32) -> f32 {
     let y1 = crate::math::ceil_i(p.y + reach - 0.5).min(grid.height() as isize);
     let mut best2 = cap * cap;
     for y in y0..=y1 {
-        let gy = ((p.y - y as f32).abs() - 0.5).max(0.0);
-        if gy * gy >= best2 {
+        let gy = at_least_zero((p.y - y as f32).abs() - 0.5);
+        // Most rows near a robot on open floor hold no blocked cell: one bit test of the
+        // whole run skips them (cells off the map count as blocked here too).
+        if gy * gy >= best2 || !grid.row_run_blocked(y, x0, x1) {
             continue;
         }
         for x in x0..=x1 {
             if grid.is_blocked(x, y) {
-                let gx = ((p.x - x as f32).abs() - 0.5).max(0.0);
-                best2 = best2.min(gx * gx + gy * gy);
+                let gx = at_least_zero((p.x - x as f32).abs() - 0.5);
+                best2 = lesser(best2, gx * gx + gy * gy);
             }
         }
     }

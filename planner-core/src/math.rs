@@ -44,6 +44,19 @@ fn vsqrt(x: f32) -> f32 {
     f32::from_bits(bits)
 }
 
+/// `a.min(b)` for a non-NaN `a`, by one comparison: `f32::min` is a libm call on Cortex-M4
+/// (no `VMINNM`). Same value (up to the sign of a zero); a NaN `b` gives `a`, like `min`.
+#[inline]
+pub fn lesser(a: f32, b: f32) -> f32 {
+    if b < a { b } else { a }
+}
+
+/// `x.max(0.0)` by one comparison (see [`lesser`]); NaN gives 0, like `max`.
+#[inline]
+pub fn at_least_zero(x: f32) -> f32 {
+    if x > 0.0 { x } else { 0.0 }
+}
+
 /// `floor` for values well inside the `isize` range (coordinates on a map), without the
 /// software rounding routine: truncation, then one correction for negative fractions.
 #[inline]
@@ -95,6 +108,28 @@ mod tests {
         assert!(clamp(f32::NAN, 0.0, 1.0).is_nan());
         // Bounds the wrong way round (std would panic).
         assert!([2.0, 1.0].contains(&clamp(1.5, 2.0, 1.0)));
+    }
+
+    #[test]
+    fn lesser_and_at_least_zero_match_std() {
+        let values = [
+            -3.0f32,
+            -0.5,
+            0.0,
+            0.25,
+            1.0,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+            f32::NAN,
+        ];
+        for a in values.into_iter().filter(|a| !a.is_nan()) {
+            for b in values {
+                assert_eq!(lesser(a, b), a.min(b), "{a} {b}");
+            }
+        }
+        for x in values {
+            assert_eq!(at_least_zero(x), x.max(0.0), "{x}");
+        }
     }
 
     #[test]
