@@ -954,6 +954,56 @@ mod tests {
         G::new(20, 20).unwrap()
     }
 
+    /// The distance to the nearest blocked square over every cell (the definition).
+    fn clearance_by_every_cell(grid: GridRef<'_>, p: Point, cap: f32) -> f32 {
+        let mut best2 = cap * cap;
+        for y in -1..=grid.height() as isize {
+            for x in -1..=grid.width() as isize {
+                if grid.is_blocked(x, y) {
+                    let gx = ((p.x - x as f32).abs() - 0.5).max(0.0);
+                    let gy = ((p.y - y as f32).abs() - 0.5).max(0.0);
+                    best2 = best2.min(gx * gx + gy * gy);
+                }
+            }
+        }
+        sqrt(best2)
+    }
+
+    #[test]
+    fn clearance_is_the_distance_to_the_nearest_blocked_square() {
+        let mut state = 0x9E37_79B9u32;
+        let mut next = |n: u32| {
+            state ^= state << 13;
+            state ^= state >> 17;
+            state ^= state << 5;
+            state % n
+        };
+        for _ in 0..200 {
+            let mut g = empty();
+            for _ in 0..next(120) {
+                g.set_blocked(next(20) as usize, next(20) as usize, true)
+                    .unwrap();
+            }
+            for _ in 0..50 {
+                let p = Point::new(
+                    next(2400) as f32 / 100.0 - 2.0,
+                    next(2400) as f32 / 100.0 - 2.0,
+                );
+                for cap in [0.3, 1.3, 2.0, 5.0] {
+                    let want = if p.x <= -0.5 || p.y <= -0.5 || p.x >= 19.5 || p.y >= 19.5 {
+                        None
+                    } else {
+                        Some(clearance_by_every_cell(g.view(), p, cap))
+                    };
+                    let got = point_clearance(g.view(), p, cap);
+                    if let Some(want) = want {
+                        assert_eq!(got.to_bits(), want.to_bits(), "{p:?} cap {cap}");
+                    }
+                }
+            }
+        }
+    }
+
     /// Drives the robot with perfect kinematics until arrival or `max` steps.
     fn drive(
         dwa: &mut Dwa,
