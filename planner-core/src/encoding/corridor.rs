@@ -183,7 +183,8 @@ impl<'a> CorridorEncoding<'a> {
     /// Builds the stations over `guide` (a valid path, start first) into `stations`.
     ///
     /// `spacing` is the guide length between stations (cells); the number of movable stations
-    /// is capped by `max_vars`, by `stations.len() - 2` and at 998. `radius` caps the lateral reach.
+    /// is capped by `max_vars`, by `stations.len() - 2` and at 998. `radius` caps the
+    /// lateral reach.
     /// Errors: [`PlanError::InvalidParameters`] for a NaN, infinite or non-positive `spacing`
     /// or `radius`, or a guide with fewer than two points.
     pub fn build(
@@ -401,8 +402,9 @@ impl<'a> CorridorEncoding<'a> {
             }
         }
         // A variable out of range, or fewer variables than movable stations (never from an
-        // optimizer): by index, with `waypoint`'s clamp and default offset. One loop over a chain of the two cases, a fold or a
-        // closure instead cost 2-13% more instructions per plan on the Cortex-M4.
+        // optimizer): by index, with `waypoint`'s clamp and default offset. One loop over a
+        // chain of the two cases, a fold or a closure instead cost 2-13% more instructions
+        // per plan on the Cortex-M4.
         let mut total = 0.0;
         let mut a = self.waypoint(0, x);
         for s in 0..self.stations.len() - 1 {
