@@ -146,6 +146,8 @@ fn main() -> ! {
             ok = false;
         }
     }
+    #[cfg(feature = "optimizer-alone")]
+    optimizer_alone(s);
     hprintln!("stack_peak_bytes={}", peak_stack());
     hprintln!("digest={:#018x}", scenario::combine(&digests[..count]));
     debug::exit(if ok {
@@ -155,5 +157,39 @@ fn main() -> ! {
     });
     loop {
         cortex_m::asm::wfi();
+    }
+}
+
+/// Times each swarm optimizer of the scenario alone: the 40x40 plan's population, iterations,
+/// seed and dimension (9), on a shifted sphere (a few instructions per variable).
+#[cfg(feature = "optimizer-alone")]
+fn optimizer_alone(s: &mut Storage) {
+    use planner_core::optim::any::AlgorithmKind;
+    use planner_core::optim::{Bounds, Optimizer, Settings};
+    use planner_core::planner::PlanOptimizer;
+    const DIM: usize = 9;
+    for kind in [AlgorithmKind::Tclhho, AlgorithmKind::Igwo] {
+        let Ok(bounds) = Bounds::<{ scenario::DIM }>::uniform(DIM, -1.0, 1.0) else {
+            return;
+        };
+        let settings = Settings {
+            population: scenario::POP,
+            iterations: 500,
+            seed: scenario::SEED,
+        };
+        let mut sphere = |x: &[f32]| x.iter().map(|v| (v - 0.25) * (v - 0.25)).sum::<f32>();
+        let t0 = ticks();
+        let ok = s.swarm.configure_kind(kind, settings, &bounds).is_ok()
+            && s.swarm.init(&mut sphere, None).is_ok()
+            && (0..500).all(|_| s.swarm.step(&mut sphere).is_ok());
+        let t = ticks() - t0;
+        hprintln!(
+            "alone {:?} ok={} dimension={} evaluations={} instructions={}",
+            kind,
+            ok,
+            DIM,
+            s.swarm.evaluations(),
+            t * 40
+        );
     }
 }
