@@ -523,14 +523,24 @@ mod tests {
         x.iter().map(|v| (v - 37.5) * (v - 37.5)).sum()
     }
 
-    fn run(params: HhoParams, seed: u64) -> (f32, u64) {
-        let b = Bounds::<10>::uniform(10, -100.0, 100.0).unwrap();
+    /// `N` hawks (the whole capacity) over `D` coordinates, each in `[lo, hi]`.
+    fn hawks<const N: usize, const D: usize>(
+        params: HhoParams,
+        (lo, hi): (f32, f32),
+        iterations: u32,
+        seed: u64,
+    ) -> Hho<N, D> {
+        let b = Bounds::<D>::uniform(D, lo, hi).unwrap();
         let s = Settings {
-            population: 20,
-            iterations: 100,
+            population: N,
+            iterations,
             seed,
         };
-        let mut h = Hho::<20, 10>::new(s, &b, params).unwrap();
+        Hho::new(s, &b, params).unwrap()
+    }
+
+    fn run(params: HhoParams, seed: u64) -> (f32, u64) {
+        let mut h = hawks::<20, 10>(params, (-100.0, 100.0), 100, seed);
         let r = h
             .run(&mut shifted_sphere, None, &Stop::default(), &mut [])
             .unwrap();
@@ -539,17 +549,11 @@ mod tests {
 
     #[test]
     fn scalar_mean_pools_every_coordinate_of_every_hawk() {
-        let b = Bounds::<3>::uniform(3, -10.0, 10.0).unwrap();
-        let s = Settings {
-            population: 4,
-            iterations: 10,
-            seed: 3,
-        };
         let scalar = HhoParams {
             mean: HawkMean::Scalar,
             ..HhoParams::hho()
         };
-        let mut h = Hho::<4, 3>::new(s, &b, scalar).unwrap();
+        let mut h = hawks::<4, 3>(scalar, (-10.0, 10.0), 10, 3);
         let rows: [&[f32]; 4] = [
             &[1.0, 2.0, 3.0],
             &[4.0, 5.0, 6.0],
@@ -561,7 +565,7 @@ mod tests {
         h.recompute_sum();
         assert_eq!(h.scalar_mean(), Some(45.0 / 12.0));
         // HHO.m's reading keeps one mean per dimension.
-        let mut h = Hho::<4, 3>::new(s, &b, HhoParams::hho()).unwrap();
+        let mut h = hawks::<4, 3>(HhoParams::hho(), (-10.0, 10.0), 10, 3);
         h.init(&mut shifted_sphere, Some(&rows)).unwrap();
         h.recompute_sum();
         assert_eq!(h.scalar_mean(), None);
@@ -578,18 +582,12 @@ mod tests {
 
     #[test]
     fn evaluations_are_counted_exactly() {
-        let b = Bounds::<4>::uniform(4, -5.0, 5.0).unwrap();
         for params in [
             HhoParams::hho(),
             HhoParams::tclhho(),
             HhoParams::tclhho_literal(),
         ] {
-            let s = Settings {
-                population: 10,
-                iterations: 30,
-                seed: 3,
-            };
-            let mut h = Hho::<10, 4>::new(s, &b, params).unwrap();
+            let mut h = hawks::<10, 4>(params, (-5.0, 5.0), 30, 3);
             let mut calls = 0u64;
             let mut obj = |x: &[f32]| {
                 calls += 1;
@@ -605,7 +603,6 @@ mod tests {
     fn every_evaluated_point_is_in_the_box() {
         // Candidates are clamped by the loops that compute them: a narrow box off the
         // optimum makes every move and the mutation leave it often.
-        let b = Bounds::<6>::uniform(6, 2.0, 3.0).unwrap();
         for params in [
             HhoParams::hho(),
             HhoParams::tclhho(),
@@ -615,12 +612,7 @@ mod tests {
                 ..HhoParams::tclhho()
             },
         ] {
-            let s = Settings {
-                population: 8,
-                iterations: 60,
-                seed: 11,
-            };
-            let mut h = Hho::<8, 6>::new(s, &b, params).unwrap();
+            let mut h = hawks::<8, 6>(params, (2.0, 3.0), 60, 11);
             let mut outside = 0u32;
             let mut obj = |x: &[f32]| {
                 outside += x.iter().filter(|v| !(2.0..=3.0).contains(*v)).count() as u32;
@@ -633,13 +625,7 @@ mod tests {
 
     #[test]
     fn best_so_far_never_worsens_and_matches_its_position() {
-        let b = Bounds::<5>::uniform(5, -10.0, 10.0).unwrap();
-        let s = Settings {
-            population: 12,
-            iterations: 40,
-            seed: 8,
-        };
-        let mut h = Hho::<12, 5>::new(s, &b, HhoParams::tclhho()).unwrap();
+        let mut h = hawks::<12, 5>(HhoParams::tclhho(), (-10.0, 10.0), 40, 8);
         let mut obj = |x: &[f32]| x.iter().map(|v| (v - 1.0).abs()).sum::<f32>();
         let mut hist = [0.0f32; 40];
         h.run(&mut obj, None, &Stop::default(), &mut hist).unwrap();
@@ -652,13 +638,7 @@ mod tests {
         // HHO.m: `X2 = Rabbit - E |J Rabbit - X| + S .* Levy(D)`, i.e. `Z` from the raw `Y`.
         // Here `Y = -9` lies below the box `[0, 10]`: `Z` must be `clamp(-9 + step)` = 0, not
         // `clamp(0 + step)` (which is positive for every positive Levy step).
-        let b = Bounds::<6>::uniform(6, 0.0, 10.0).unwrap();
-        let s = Settings {
-            population: 2,
-            iterations: 10,
-            seed: 4,
-        };
-        let mut h = Hho::<2, 6>::new(s, &b, HhoParams::hho()).unwrap();
+        let mut h = hawks::<2, 6>(HhoParams::hho(), (0.0, 10.0), 10, 4);
         let mut last = [f32::NAN; 6];
         // A constant cost: neither `Y` nor `Z` improves on the hawk, so both are evaluated.
         let mut obj = |x: &[f32]| {
