@@ -971,18 +971,12 @@ mod tests {
 
     #[test]
     fn clearance_is_the_distance_to_the_nearest_blocked_square() {
-        let mut state = 0x9E37_79B9u32;
-        let mut next = |n: u32| {
-            state ^= state << 13;
-            state ^= state >> 17;
-            state ^= state << 5;
-            state % n
-        };
+        let mut rng = crate::optim::random::Random::new(0x9E37_79B9);
+        let mut next = |n: usize| rng.index(n);
         for _ in 0..200 {
             let mut g = empty();
             for _ in 0..next(120) {
-                g.set_blocked(next(20) as usize, next(20) as usize, true)
-                    .unwrap();
+                g.set_blocked(next(20), next(20), true).unwrap();
             }
             for _ in 0..50 {
                 let p = Point::new(
