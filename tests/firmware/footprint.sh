@@ -48,6 +48,16 @@ over() { # name
     fi
 }
 [ "$flash" -le "$FLASH_BUDGET" ] || over flash
+# The planner state must be zero-initialised (.bss): one non-zero byte in its initialiser
+# would put all of it in .data, copied from an equally large flash image (see
+# `Swarm::unconfigured` in planner-core).
+for s in STORAGE NODES; do
+    kind=$(arm-none-eabi-nm -C "$elf" | awk -v s="planner_firmware::$s" '$3 == s { print $2 }')
+    if [ "$kind" != b ] && [ "$kind" != B ]; then
+        echo "FAIL: static $s is not in .bss (nm type '$kind')" >&2
+        status=1
+    fi
+done
 [ "$ram" -le "$RAM_BUDGET" ] || over ram
 echo
 echo "| plan | instructions (VSQRT) | instructions (soft sqrt) | evaluations | length (milli-cells) |"

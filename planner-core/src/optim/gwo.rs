@@ -95,6 +95,12 @@ impl<const D: usize> Wolf<D> {
         cost: f32::INFINITY,
     };
 
+    /// All zero bytes (see [`Gwo::unconfigured`]); [`Optimizer::init`] resets the leaders.
+    const UNSET: Self = Self {
+        position: [0.0; D],
+        cost: 0.0,
+    };
+
     fn set(&mut self, x: &[f32], cost: f32) {
         copy(&mut self.position, x);
         self.cost = cost;
@@ -244,7 +250,11 @@ impl<const N: usize, const D: usize> Gwo<N, D> {
         Self {
             swarm: Swarm::unconfigured(),
             params: GwoParams::gwo(),
-            leaders: Leaders::new(),
+            leaders: Leaders {
+                alpha: Wolf::UNSET,
+                beta: Wolf::UNSET,
+                delta: Wolf::UNSET,
+            },
         }
     }
 

@@ -153,10 +153,13 @@ pub struct Hho<const N: usize, const D: usize> {
     y: [f32; D],
     /// Candidate `Z`.
     z: [f32; D],
-    /// Whether hawk `i`'s cached cost is exact. With a [`pure`](Objective::pure) objective a
-    /// hawk that moves unconditionally is evaluated only against the rabbit (its cost matters
-    /// again only if it dives later, and is recomputed then); otherwise every cost is exact.
-    exact: [bool; N],
+    /// Whether hawk `i`'s cached cost is only a lower bound. With a
+    /// [`pure`](Objective::pure) objective a hawk that moves unconditionally is evaluated
+    /// only against the rabbit (its cost matters again only if it dives later, and is
+    /// recomputed then); otherwise every cost is exact. (False for exact, so that an
+    /// unconfigured instance is all zero bytes, see
+    /// [`Swarm::unconfigured`](super::Swarm::unconfigured).)
+    bounded: [bool; N],
 }
 
 impl<const N: usize, const D: usize> Hho<N, D> {
@@ -177,11 +180,15 @@ impl<const N: usize, const D: usize> Hho<N, D> {
     pub const fn unconfigured() -> Self {
         Self {
             swarm: Swarm::unconfigured(),
-            params: HhoParams::hho(),
+            // Zero where `hho()` is not; `configure` sets the real ones.
+            params: HhoParams {
+                levy_scale: 0.0,
+                ..HhoParams::hho()
+            },
             sum: [0.0; D],
             y: [0.0; D],
             z: [0.0; D],
-            exact: [true; N],
+            bounded: [false; N],
         }
     }
 
@@ -220,8 +227,8 @@ impl<const N: usize, const D: usize> Hho<N, D> {
             let cost = self.evaluate_y_below(objective, f32::NEG_INFINITY);
             self.move_hawk_to_y(i, cost);
             // Exact when it beat the rabbit (or there was none); else possibly a lower bound.
-            if let Some(e) = self.exact.get_mut(i) {
-                *e = rabbit == f32::INFINITY || cost < rabbit;
+            if let Some(b) = self.bounded.get_mut(i) {
+                *b = !(rabbit == f32::INFINITY || cost < rabbit);
             }
         } else {
             let cost = self.evaluate_y(objective);
@@ -232,12 +239,12 @@ impl<const N: usize, const D: usize> Hho<N, D> {
     /// Hawk `i`'s exact cost, recomputed if only a lower bound is cached (not counted as an
     /// evaluation: it repeats one, and a pure objective gives the same value).
     fn exact_cost<O: Objective + ?Sized>(&mut self, objective: &mut O, i: usize) -> f32 {
-        if !self.exact.get(i).copied().unwrap_or(true) {
+        if self.bounded.get(i).copied().unwrap_or(false) {
             let raw = objective.cost(self.swarm.pop.position(i));
             let cost = if raw.is_nan() { f32::INFINITY } else { raw };
             self.swarm.pop.set_cost(i, cost);
-            if let Some(e) = self.exact.get_mut(i) {
-                *e = true;
+            if let Some(b) = self.bounded.get_mut(i) {
+                *b = false;
             }
         }
         self.swarm.pop.cost(i)
@@ -447,7 +454,7 @@ impl<const N: usize, const D: usize> Optimizer for Hho<N, D> {
         objective: &mut O,
         initial: Option<&[&[f32]]>,
     ) -> Result<(), OptimError> {
-        self.exact = [true; N];
+        self.bounded = [false; N];
         self.swarm.initialise(objective, self.params.init, initial)
     }
 

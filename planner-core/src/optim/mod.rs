@@ -464,11 +464,12 @@ impl<const N: usize, const D: usize> Population<N, D> {
         p
     }
 
-    /// A population of size 0 (usable in `const` and `static` initialisers).
+    /// A population of size 0, all zero bytes (usable in `const` and `static` initialisers;
+    /// see [`Swarm::unconfigured`]). [`resize`](Self::resize) sets the costs.
     pub const fn empty() -> Self {
         Self {
             positions: [[0.0; D]; N],
-            costs: [f32::INFINITY; N],
+            costs: [0.0; N],
             size: 0,
             dim: 0,
         }
@@ -623,14 +624,16 @@ pub(crate) struct Tracker<const D: usize> {
 }
 
 impl<const D: usize> Tracker<D> {
-    pub const fn new(dim: usize) -> Self {
+    /// All zero bytes (see [`Swarm::unconfigured`]): [`reset`](Self::reset) makes it a
+    /// tracker, before any evaluation.
+    pub const fn unconfigured() -> Self {
         Self {
             best: [0.0; D],
-            best_cost: f32::INFINITY,
+            best_cost: 0.0,
             best_iteration: 0,
             evaluations: 0,
             iteration: 0,
-            dim: if dim < D { dim } else { D },
+            dim: 0,
         }
     }
 
@@ -702,6 +705,13 @@ pub(crate) struct Swarm<const N: usize, const D: usize> {
 
 impl<const N: usize, const D: usize> Swarm<N, D> {
     /// An unconfigured swarm, for `const`/`static` initialisers.
+    ///
+    /// Its bytes are all zero, like every optimizer's `unconfigured()` built on it: a
+    /// firmware `static` of one then lives in `.bss` instead of being copied from a flash
+    /// image, and assigning one is a `memset` rather than a copy of a constant kept in flash
+    /// (which cost 37 KiB of flash for the firmware's TCLHHO/IGWO state).
+    /// [`configure`](Self::configure) and `initialise` set every field before a draw or an
+    /// evaluation.
     pub const fn unconfigured() -> Self {
         Self {
             settings: Settings {
@@ -714,9 +724,9 @@ impl<const N: usize, const D: usize> Swarm<N, D> {
                 upper: [0.0; D],
                 dim: 0,
             },
-            rng: Random::unseeded(),
+            rng: Random::unset(),
             pop: Population::empty(),
-            tracker: Tracker::new(0),
+            tracker: Tracker::unconfigured(),
             initialised: false,
         }
     }

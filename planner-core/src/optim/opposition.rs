@@ -97,7 +97,8 @@ mod tests {
         for seed in 0..20 {
             let mut rng = Random::new(seed);
             let mut p = Population::<8, 2>::new(8, 2);
-            let mut t = Tracker::<2>::new(2);
+            let mut t = Tracker::<2>::unconfigured();
+            t.reset(2);
             let mut all = [0.0f32; 16];
             for i in 0..8 {
                 let x = [rng.range(-10.0, 10.0), rng.range(0.0, 4.0)];

@@ -88,6 +88,14 @@ impl Random {
         }
     }
 
+    /// The all-zero state, for the all-zero `unconfigured()` optimizers (see
+    /// [`Swarm::unconfigured`](super::Swarm::unconfigured)), which reseed before their first
+    /// draw. Xoshiro's zero state is a fixed point: it draws 0 forever, so `normal` and
+    /// `cauchy` would never return. Not public for that reason.
+    pub(crate) const fn unset() -> Self {
+        Self { s: [0; 4] }
+    }
+
     /// Restarts the sequence of `seed`.
     pub fn reseed(&mut self, seed: u64) {
         // Seeded by the crate itself; only the stepping is done here.
