@@ -43,6 +43,12 @@ pub struct Station {
     tested: [u32; 2],
     /// ...and whether every leg between the two intervals proved clear.
     clear: [u32; 2],
+    /// The waypoint of the candidate under evaluation, and the straight length of its leg
+    /// to the next waypoint: written by [`CorridorEncoding::straight`], read by the rest of
+    /// that bounded evaluation (placing each waypoint again per pass cost more than a
+    /// tenth of a plan on a Cortex-M4).
+    waypoint: Point,
+    straight: f32,
 }
 
 impl Station {
@@ -56,6 +62,8 @@ impl Station {
         arc_to_next: 0.0,
         tested: [0; 2],
         clear: [0; 2],
+        waypoint: Point::new(0.0, 0.0),
+        straight: 0.0,
     };
 
     /// The waypoint at offset `v` in `[-1, 1]` (for a movable station).
@@ -238,6 +246,7 @@ impl<'a> CorridorEncoding<'a> {
         stations[0] = Station {
             index: 0,
             point: guide[0],
+            waypoint: guide[0],
             ..Station::default()
         };
         let mut seen = 0usize;
@@ -258,6 +267,7 @@ impl<'a> CorridorEncoding<'a> {
         stations[k + 1] = Station {
             index: last as u32,
             point: guide[last],
+            waypoint: guide[last],
             ..Station::default()
         };
         for s in 0..k + 2 {
@@ -375,13 +385,15 @@ impl<'a> CorridorEncoding<'a> {
     /// was in `[-1, 1]`. A repaired leg is never shorter than the straight one (triangle
     /// inequality), so the sum bounds the cost from below, once shrunk by [`slack`] for
     /// rounding.
+    ///
+    /// Keeps each waypoint and straight leg length in its station for the later passes.
     #[inline(always)]
-    fn straight(&self, x: &[f32]) -> (f32, bool) {
+    fn straight(&mut self, x: &[f32]) -> (f32, bool) {
         // The usual case walks the movable stations and the variables side by side, without
         // an index check or end test per leg: this is the hottest loop of a plan on a
         // Cortex-M4 (every bounded evaluation starts with it).
-        if let Some((first, rest)) = self.stations.split_first()
-            && let Some((last, movable)) = rest.split_last()
+        if let Some((first, rest)) = self.stations.split_first_mut()
+            && let Some((last, movable)) = rest.split_last_mut()
             && x.len() >= movable.len()
         {
             // Optimizers keep every variable in `[-1, 1]`, where `offset_of` is the identity:
@@ -390,15 +402,20 @@ impl<'a> CorridorEncoding<'a> {
             // on a Cortex-M4, where the finiteness test and the clamp took a dozen.
             let mut total = 0.0;
             let mut a = first.point;
+            let mut leg = &mut first.straight;
             let mut widest = 0u32;
-            for (st, &v) in movable.iter().zip(x) {
+            for (st, &v) in movable.iter_mut().zip(x) {
                 widest = widest.max(v.to_bits() & !SIGN);
                 let b = st.slide(v);
-                total += a.distance(b);
+                *leg = a.distance(b);
+                total += *leg;
+                st.waypoint = b;
+                leg = &mut st.straight;
                 a = b;
             }
             if widest <= ONE {
-                return (total + a.distance(last.point), true);
+                *leg = a.distance(last.point);
+                return (total + *leg, true);
             }
         }
         // A variable out of range, or fewer variables than movable stations (never from an
@@ -409,10 +426,25 @@ impl<'a> CorridorEncoding<'a> {
         let mut a = self.waypoint(0, x);
         for s in 0..self.stations.len() - 1 {
             let b = self.waypoint(s + 1, x);
-            total += a.distance(b);
+            let leg = a.distance(b);
+            total += leg;
+            self.stations[s + 1].waypoint = b;
+            self.stations[s].straight = leg;
             a = b;
         }
         (total, false)
+    }
+
+    /// The ends of leg `s` as [`straight`](Self::straight) placed them, with their offsets.
+    #[inline(always)]
+    fn placed(&self, s: usize, x: &[f32], in_range: bool) -> ((Point, f32), (Point, f32)) {
+        (
+            (self.stations[s].waypoint, self.offset(s, x, in_range)),
+            (
+                self.stations[s + 1].waypoint,
+                self.offset(s + 1, x, in_range),
+            ),
+        )
     }
 
     /// Raises `sum` (the [`straight`](Self::straight) sum, or one raised before) by leg `s`
@@ -420,7 +452,7 @@ impl<'a> CorridorEncoding<'a> {
     /// one. Returns the raised sum shrunk by [`slack`]: a lower bound of the cost.
     #[inline(always)]
     fn raise(&self, sum: &mut f32, s: usize, a: Point, b: Point) -> f32 {
-        *sum += self.repaired_leg(s, a, b) - a.distance(b);
+        *sum += self.repaired_leg(s, a, b) - self.stations[s].straight;
         *sum * self.slack
     }
 
@@ -517,7 +549,7 @@ impl Encoding for CorridorEncoding<'_> {
             if s >= legs {
                 continue;
             }
-            let (a, b) = (self.place(s, x, in_range), self.place(s + 1, x, in_range));
+            let (a, b) = self.placed(s, x, in_range);
             if self.leg_is_clear(s, a, b) {
                 clear |= bit;
             } else {
@@ -531,31 +563,30 @@ impl Encoding for CorridorEncoding<'_> {
         }
         // The exact sum, in `cost`'s order; each newly repaired leg raises the bound again.
         let mut total = 0.0;
-        let mut a = self.place(0, x, in_range);
         // `leg_bit(s)`, shifted along (out of the set from leg 64 on).
         let mut bit: LegSet = 1;
         for s in 0..legs {
-            let b = self.place(s + 1, x, in_range);
             let is_clear = if (repaired | clear) & bit != 0 {
                 clear & bit != 0
             } else {
+                let (a, b) = self.placed(s, x, in_range);
                 self.leg_is_clear(s, a, b)
             };
             if is_clear {
-                total += a.0.distance(b.0);
+                total += self.stations[s].straight;
             } else {
-                total += self.repaired_leg(s, a.0, b.0);
+                let (a, b) = (self.stations[s].waypoint, self.stations[s + 1].waypoint);
+                total += self.repaired_leg(s, a, b);
                 if repaired & bit == 0 {
                     repaired |= bit;
                     self.hot |= bit;
-                    let bound_now = self.raise(&mut sum, s, a.0, b.0);
+                    let bound_now = self.raise(&mut sum, s, a, b);
                     if bound_now >= bound {
                         self.decisive = s;
                         return bound_now;
                     }
                 }
             }
-            a = b;
             bit <<= 1;
         }
         total
