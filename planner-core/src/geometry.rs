@@ -273,6 +273,78 @@ fn div_ceil<T: StripInt>(a: T, b: T) -> T {
 /// (conservative by [`TOUCH_EPS`]). Non-finite points and points on or beyond the map's
 /// outer edge are invalid.
 pub fn segment_is_clear(grid: GridRef<'_>, a: Point, b: Point) -> bool {
+    check_segment(grid, a, b, |_, _, _, _| {})
+}
+
+/// [`segment_is_clear`], and for a blocked segment a blocked cell that proves it: one that
+/// [`segment_crosses_cell`] confirms with `margin` when the segment crosses one that deeply,
+/// else any blocked cell it touches; `None` when only the map's edge or the exact rule
+/// between cell centres blocks it.
+///
+/// A caller that checks many nearby segments can test the cell first (a few dozen
+/// instructions) and walk only when it does not settle the question.
+pub fn segment_blocker(grid: GridRef<'_>, a: Point, b: Point, margin: f32) -> (bool, Option<Cell>) {
+    // The run (strip, first, last, strips are columns) that blocked the walk.
+    let mut run = None;
+    let clear = check_segment(grid, a, b, |s, lo, hi, columns| {
+        run = Some((s, lo, hi, columns))
+    });
+    let Some((s, lo, hi, columns)) = run.filter(|_| !clear) else {
+        return (clear, None);
+    };
+    let mut touched = None;
+    for p in lo..=hi {
+        let (x, y) = if columns { (s, p) } else { (p, s) };
+        if !grid.is_blocked(x, y) {
+            continue;
+        }
+        // A blocked cell, or one beyond the map's far edge (the rule treats both alike, and
+        // a segment crossing either is blocked). Cells before the near edge have no `Cell`.
+        let (Ok(cx), Ok(cy)) = (u16::try_from(x), u16::try_from(y)) else {
+            continue;
+        };
+        let cell = Cell::new(cx, cy);
+        if segment_crosses_cell(a, b, cell, margin) {
+            return (false, Some(cell));
+        }
+        touched = touched.or(Some(cell));
+    }
+    (false, touched)
+}
+
+/// Whether segment `ab` meets the square of `cell` shrunk by `margin` on every side
+/// (`margin` well above `f32` rounding at the map's scale, e.g. [`hull_margin`]). If the
+/// cell is blocked, the segment then certainly fails [`segment_is_clear`]: it enters the
+/// cell's interior by more than any rounding. `false` proves nothing. NaN gives `false`.
+///
+/// The separating-axis test of a segment and a box: their bounding boxes overlap, and the
+/// box's corners are not all on one side of the segment's line.
+#[inline]
+#[allow(clippy::neg_cmp_op_on_partial_ord)] // `!(x <= r)` also rejects a NaN product
+pub fn segment_crosses_cell(a: Point, b: Point, cell: Cell, margin: f32) -> bool {
+    let h = 0.5 - margin;
+    let (cx, cy) = (f32::from(cell.x), f32::from(cell.y));
+    let (dx, dy) = (b.x - a.x, b.y - a.y);
+    let cross = dx * (cy - a.y) - dy * (cx - a.x);
+    // The box's projection on the line's normal `(-dy, dx)` has radius `h (|dx| + |dy|)`.
+    // Tested first: a segment that misses the cell usually misses it with its whole line.
+    if !(libm::fabsf(cross) <= h * (libm::fabsf(dx) + libm::fabsf(dy))) {
+        return false;
+    }
+    let (x0, x1) = ordered(a.x, b.x);
+    let (y0, y1) = ordered(a.y, b.y);
+    x0 <= cx + h && x1 >= cx - h && y0 <= cy + h && y1 >= cy - h
+}
+
+/// [`segment_is_clear`], calling `blocked_run(strip, first, last, columns)` with the run of
+/// cells that blocked the walk (not for the map's edge or the rule between centres).
+#[inline(always)]
+fn check_segment(
+    grid: GridRef<'_>,
+    a: Point,
+    b: Point,
+    mut blocked_run: impl FnMut(isize, isize, isize, bool),
+) -> bool {
     // Between cell centres the exact rule decides (the planners use it, so their paths
     // always validate); `f32` rounding would otherwise reject some of them on big maps.
     // (`b` is looked at only when `a` is a centre: waypoints between stations rarely are.)
@@ -294,11 +366,19 @@ pub fn segment_is_clear(grid: GridRef<'_>, a: Point, b: Point) -> bool {
     }
     if (b.y - a.y).abs() > (b.x - a.x).abs() {
         float_strips((a.x, a.y), (b.x, b.y), |c, lo, hi| {
-            grid.column_run_blocked(c, lo, hi)
+            let blocked = grid.column_run_blocked(c, lo, hi);
+            if blocked {
+                blocked_run(c, lo, hi, true);
+            }
+            blocked
         })
     } else {
         float_strips((a.y, a.x), (b.y, b.x), |r, lo, hi| {
-            grid.row_run_blocked(r, lo, hi)
+            let blocked = grid.row_run_blocked(r, lo, hi);
+            if blocked {
+                blocked_run(r, lo, hi, false);
+            }
+            blocked
         })
     }
 }

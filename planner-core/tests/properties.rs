@@ -24,6 +24,9 @@
 //! - `blocked_cells_touched_counts_exactly`: the count of blocked (or outside) cells a
 //!   segment between cell centres touches equals the exact oracle's, for every pair within
 //!   one column of each other (the column encoding's steps) and a sample of others;
+//! - `blocked_cell_witnesses_are_proofs`: `segment_blocker` = `segment_is_clear`, with a
+//!   blocked cell the segment touches; a blocked cell that `segment_crosses_cell` accepts
+//!   proves the segment blocked, and a segment entering a cell deeply is accepted;
 //! - `hull_is_clear_proves_its_segments`: a hull accepted by `hull_is_clear` holds only
 //!   segments that `segment_is_clear` and the exact rule accept, and a hull a cell and a half
 //!   away from everything is accepted;
@@ -33,8 +36,8 @@
 
 use planner_core::PlanError;
 use planner_core::geometry::{
-    Cell, Point, blocked_cells_touched, hull_is_clear, hull_margin, line_of_sight,
-    segment_clearance, segment_is_clear,
+    Cell, Point, blocked_cells_touched, hull_is_clear, hull_margin, line_of_sight, segment_blocker,
+    segment_clearance, segment_crosses_cell, segment_is_clear,
 };
 use planner_core::grid::{Grid, words_for};
 use planner_core::path::{self, Path};
@@ -682,6 +685,56 @@ proptest! {
             });
             if far {
                 prop_assert!(fast, "{:?} -> {:?} is a cell away from everything", a, b);
+            }
+        }
+    }
+
+    /// `segment_blocker` gives `segment_is_clear`'s verdict, and its cell is blocked (or
+    /// outside) and touched by the segment; `segment_crosses_cell` with the hull margin
+    /// proves a blocked cell's segment blocked (by the crate and by the exact rule), and
+    /// accepts every segment that enters the cell by twice the margin.
+    #[test]
+    fn blocked_cell_witnesses_are_proofs(
+        m in map_strategy(),
+        pts in proptest::collection::vec((-80i32..=24 * 64 + 80, -80i32..=24 * 64 + 80), 2..40),
+    ) {
+        let grid = m.grid();
+        let g = grid.view();
+        let margin = hull_margin(g);
+        let p = |(x, y): (i32, i32)| Point::new(x as f32 / 64.0, y as f32 / 64.0);
+        for w in pts.windows(2) {
+            let (a, b) = (p(w[0]), p(w[1]));
+            let clear = segment_is_clear(g, a, b);
+            let (verdict, witness) = segment_blocker(g, a, b, margin);
+            prop_assert_eq!(verdict, clear, "{:?} -> {:?}", a, b);
+            let (sa, sb) = (scaled(a), scaled(b));
+            if let Some(c) = witness {
+                let c = (i64::from(c.x), i64::from(c.y));
+                prop_assert!(!clear);
+                prop_assert!(m.blocked(c.0, c.1), "{:?} -> {:?}: {:?} is free", a, b, c);
+                // Touched, up to the check's TOUCH_EPS (1e-4 < 8 / FRAC).
+                prop_assert!(touches_box(sa, sb, c, FRAC / 2 + 8), "{:?} -> {:?}: {:?}", a, b, c);
+            }
+            let lo = |v: i64| v.div_euclid(FRAC) - 1;
+            let hi = |v: i64| v.div_euclid(FRAC) + 2;
+            for y in lo(sa.1.min(sb.1))..=hi(sa.1.max(sb.1)) {
+                for x in lo(sa.0.min(sb.0))..=hi(sa.0.max(sb.0)) {
+                    let (Ok(cx), Ok(cy)) = (u16::try_from(x), u16::try_from(y)) else {
+                        continue;
+                    };
+                    let crosses = segment_crosses_cell(a, b, Cell::new(cx, cy), margin);
+                    if crosses && m.blocked(x, y) {
+                        prop_assert!(!clear, "{:?} -> {:?} crosses blocked {:?}", a, b, (x, y));
+                        prop_assert!(!segment_ok_frac(&m, a, b));
+                    }
+                    let deep = touches_box(sa, sb, (x, y), FRAC / 2 - FRAC / 32);
+                    prop_assert!(!deep || crosses, "{:?} -> {:?} enters {:?}", a, b, (x, y));
+                    if crosses {
+                        // Sound geometry, whatever the cell: the segment meets the square
+                        // shrunk by the margin (less a rounding allowance).
+                        prop_assert!(touches_box(sa, sb, (x, y), FRAC / 2 - FRAC / 64 + 8));
+                    }
+                }
             }
         }
     }

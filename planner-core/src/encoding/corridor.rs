@@ -19,7 +19,10 @@
 
 use super::Encoding;
 use crate::error::PlanError;
-use crate::geometry::{Point, hull_is_clear, hull_margin, segment_is_clear};
+use crate::geometry::{
+    Cell, Point, hull_is_clear, hull_margin, segment_blocker, segment_crosses_cell,
+    segment_is_clear,
+};
 use crate::grid::GridRef;
 use crate::path::PathView;
 
@@ -49,6 +52,10 @@ pub struct Station {
     /// tenth of a plan on a Cortex-M4).
     waypoint: Point,
     straight: f32,
+    /// A blocked cell that the last blocked leg to the next station crossed: the swarm
+    /// keeps probing the same corners, so testing it first settles most blocked legs
+    /// without a walk.
+    witness: Option<Cell>,
 }
 
 impl Station {
@@ -64,6 +71,7 @@ impl Station {
         clear: [0; 2],
         waypoint: Point::new(0.0, 0.0),
         straight: 0.0,
+        witness: None,
     };
 
     /// The waypoint at offset `v` in `[-1, 1]` (for a movable station).
@@ -491,7 +499,16 @@ impl<'a> CorridorEncoding<'a> {
         if self.stations[s].tested[w] & bit == 0 && self.test_pair(s, i, j) {
             return true;
         }
-        segment_is_clear(self.grid, a, b)
+        if let Some(cell) = self.stations[s].witness
+            && segment_crosses_cell(a, b, cell, self.margin)
+        {
+            return false;
+        }
+        let (clear, blocker) = segment_blocker(self.grid, a, b, self.margin);
+        if blocker.is_some() {
+            self.stations[s].witness = blocker;
+        }
+        clear
     }
 }
 
