@@ -464,8 +464,8 @@ impl<const N: usize, const D: usize> Population<N, D> {
         p
     }
 
-    /// A population of size 0, all zero bytes (usable in `const` and `static` initialisers;
-    /// see [`Swarm::unconfigured`]). [`resize`](Self::resize) sets the costs.
+    /// A population of size 0, all zero bytes (usable in `const` and `static` initialisers,
+    /// like every optimizer's `unconfigured()`). [`resize`](Self::resize) sets the costs.
     pub const fn empty() -> Self {
         Self {
             positions: [[0.0; D]; N],
