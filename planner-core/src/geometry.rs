@@ -273,78 +273,6 @@ fn div_ceil<T: StripInt>(a: T, b: T) -> T {
 /// (conservative by [`TOUCH_EPS`]). Non-finite points and points on or beyond the map's
 /// outer edge are invalid.
 pub fn segment_is_clear(grid: GridRef<'_>, a: Point, b: Point) -> bool {
-    check_segment(grid, a, b, |_, _, _, _| {})
-}
-
-/// [`segment_is_clear`], and for a blocked segment a blocked cell that proves it: one that
-/// [`segment_crosses_cell`] confirms with `margin` when the segment crosses one that deeply,
-/// else any blocked cell it touches; `None` when only the map's edge or the exact rule
-/// between cell centres blocks it.
-///
-/// A caller that checks many nearby segments can test the cell first (a few dozen
-/// instructions) and walk only when it does not settle the question.
-pub fn segment_blocker(grid: GridRef<'_>, a: Point, b: Point, margin: f32) -> (bool, Option<Cell>) {
-    // The run (strip, first, last, strips are columns) that blocked the walk.
-    let mut run = None;
-    let clear = check_segment(grid, a, b, |s, lo, hi, columns| {
-        run = Some((s, lo, hi, columns))
-    });
-    let Some((s, lo, hi, columns)) = run.filter(|_| !clear) else {
-        return (clear, None);
-    };
-    let mut touched = None;
-    for p in lo..=hi {
-        let (x, y) = if columns { (s, p) } else { (p, s) };
-        if !grid.is_blocked(x, y) {
-            continue;
-        }
-        // A blocked cell, or one beyond the map's far edge (the rule treats both alike, and
-        // a segment crossing either is blocked). Cells before the near edge have no `Cell`.
-        let (Ok(cx), Ok(cy)) = (u16::try_from(x), u16::try_from(y)) else {
-            continue;
-        };
-        let cell = Cell::new(cx, cy);
-        if segment_crosses_cell(a, b, cell, margin) {
-            return (false, Some(cell));
-        }
-        touched = touched.or(Some(cell));
-    }
-    (false, touched)
-}
-
-/// Whether segment `ab` meets the square of `cell` shrunk by `margin` on every side
-/// (`margin` well above `f32` rounding at the map's scale, e.g. [`hull_margin`]). If the
-/// cell is blocked, the segment then certainly fails [`segment_is_clear`]: it enters the
-/// cell's interior by more than any rounding. `false` proves nothing. NaN gives `false`.
-///
-/// The separating-axis test of a segment and a box: their bounding boxes overlap, and the
-/// box's corners are not all on one side of the segment's line.
-#[inline]
-#[allow(clippy::neg_cmp_op_on_partial_ord)] // `!(x <= r)` also rejects a NaN product
-pub fn segment_crosses_cell(a: Point, b: Point, cell: Cell, margin: f32) -> bool {
-    let h = 0.5 - margin;
-    let (cx, cy) = (f32::from(cell.x), f32::from(cell.y));
-    let (dx, dy) = (b.x - a.x, b.y - a.y);
-    let cross = dx * (cy - a.y) - dy * (cx - a.x);
-    // The box's projection on the line's normal `(-dy, dx)` has radius `h (|dx| + |dy|)`.
-    // Tested first: a segment that misses the cell usually misses it with its whole line.
-    if !(libm::fabsf(cross) <= h * (libm::fabsf(dx) + libm::fabsf(dy))) {
-        return false;
-    }
-    let (x0, x1) = ordered(a.x, b.x);
-    let (y0, y1) = ordered(a.y, b.y);
-    x0 <= cx + h && x1 >= cx - h && y0 <= cy + h && y1 >= cy - h
-}
-
-/// [`segment_is_clear`], calling `blocked_run(strip, first, last, columns)` with the run of
-/// cells that blocked the walk (not for the map's edge or the rule between centres).
-#[inline(always)]
-fn check_segment(
-    grid: GridRef<'_>,
-    a: Point,
-    b: Point,
-    mut blocked_run: impl FnMut(isize, isize, isize, bool),
-) -> bool {
     // Between cell centres the exact rule decides (the planners use it, so their paths
     // always validate); `f32` rounding would otherwise reject some of them on big maps.
     // (`b` is looked at only when `a` is a centre: waypoints between stations rarely are.)
@@ -366,19 +294,11 @@ fn check_segment(
     }
     if (b.y - a.y).abs() > (b.x - a.x).abs() {
         float_strips((a.x, a.y), (b.x, b.y), |c, lo, hi| {
-            let blocked = grid.column_run_blocked(c, lo, hi);
-            if blocked {
-                blocked_run(c, lo, hi, true);
-            }
-            blocked
+            grid.column_run_blocked(c, lo, hi)
         })
     } else {
         float_strips((a.y, a.x), (b.y, b.x), |r, lo, hi| {
-            let blocked = grid.row_run_blocked(r, lo, hi);
-            if blocked {
-                blocked_run(r, lo, hi, false);
-            }
-            blocked
+            grid.row_run_blocked(r, lo, hi)
         })
     }
 }
@@ -477,20 +397,38 @@ pub fn hull_margin(grid: GridRef<'_>) -> f32 {
 /// # Ok::<(), planner_core::error::MapError>(())
 /// ```
 pub fn hull_is_clear(grid: GridRef<'_>, points: &[Point; 4], margin: f32) -> bool {
+    hull_blockers(grid, points, margin, &mut []) == Some(0)
+}
+
+/// The blocked cells that may come within `margin` of the convex hull of `points`, written
+/// to the front of `out`: `Some(count)`, or `None` when there are more than `out` holds, when
+/// the hull comes within `margin` of the map's edge, or for non-finite input. Every blocked
+/// cell closer than `margin` to the hull is listed (some farther ones may be too).
+///
+/// With `Some(0)` this is [`hull_is_clear`]. Otherwise, for a segment inside the hull, the
+/// cells listed are the only ones that can block it: [`segment_is_clear_among`] then gives
+/// [`segment_is_clear`]'s verdict from them alone.
+pub fn hull_blockers(
+    grid: GridRef<'_>,
+    points: &[Point; 4],
+    margin: f32,
+    out: &mut [Cell],
+) -> Option<usize> {
     if !points.iter().all(|p| p.is_finite()) || margin.is_nan() || margin < 0.0 {
-        return false;
+        return None;
     }
+    // Comparisons, not `min`/`max` (libm calls on a Cortex-M4); the points are finite.
     let (mut x0, mut y0, mut x1, mut y1) = (points[0].x, points[0].y, points[0].x, points[0].y);
     for p in &points[1..] {
-        (x0, x1) = (x0.min(p.x), x1.max(p.x));
-        (y0, y1) = (y0.min(p.y), y1.max(p.y));
+        (x0, x1) = (crate::math::lesser(x0, p.x), crate::math::greater(x1, p.x));
+        (y0, y1) = (crate::math::lesser(y0, p.y), crate::math::greater(y1, p.y));
     }
     if x0 - margin <= -0.5
         || y0 - margin <= -0.5
         || x1 + margin >= grid.width() as f32 - 0.5
         || y1 + margin >= grid.height() as f32 - 0.5
     {
-        return false;
+        return None;
     }
     // Separating axes: the normals of the hull's edges (pairs of points with the others on
     // one side); the cell's own axes are settled by the range of cells visited below. A gap
@@ -509,7 +447,7 @@ pub fn hull_is_clear(grid: GridRef<'_>, points: &[Point; 4], margin: f32) -> boo
             let (mut lo, mut hi) = (f32::INFINITY, f32::NEG_INFINITY);
             for p in points {
                 let d = p.x * nx + p.y * ny;
-                (lo, hi) = (lo.min(d), hi.max(d));
+                (lo, hi) = (crate::math::lesser(lo, d), crate::math::greater(hi, d));
             }
             let d = points[i].x * nx + points[i].y * ny;
             if d - lo <= 1e-5 || hi - d <= 1e-5 {
@@ -524,6 +462,7 @@ pub fn hull_is_clear(grid: GridRef<'_>, points: &[Point; 4], margin: f32) -> boo
     let cx1 = crate::math::floor_i(x1 + margin + 0.5);
     let cy0 = crate::math::ceil_i(y0 - margin - 0.5);
     let cy1 = crate::math::floor_i(y1 + margin + 0.5);
+    let mut count = 0;
     for cy in cy0..=cy1 {
         if !grid.row_run_blocked(cy, cx0, cx1) {
             continue;
@@ -535,8 +474,105 @@ pub fn hull_is_clear(grid: GridRef<'_>, points: &[Point; 4], margin: f32) -> boo
                     c - r > hi || c + r < lo
                 })
             {
-                return false;
+                // On the map (the hull is inside it by the margin), so a `Cell`.
+                let (Ok(x), Ok(y)) = (u16::try_from(cx), u16::try_from(cy)) else {
+                    return None;
+                };
+                *out.get_mut(count)? = Cell::new(x, y);
+                count += 1;
             }
+        }
+    }
+    Some(count)
+}
+
+/// [`segment_is_clear`]'s verdict on `a -> b` from the only blocked cells that can block it:
+/// `blockers` must list every blocked cell within [`hull_margin`] of the segment (as
+/// [`hull_blockers`] does for a hull that holds it), and the segment must be inside the map
+/// by that margin. Bit for bit the walk's verdict: for each blocker it computes only that
+/// cell's strip of the walk, the same way.
+///
+/// Most cells are settled by a separating-axis test first, a few dozen instructions: a
+/// segment farther than `margin / 8` from the cell is not walked through it, and one that
+/// enters it by more than that is blocked by it. Only a segment that grazes the cell's
+/// edge takes the walk's computation.
+pub fn segment_is_clear_among(
+    grid: GridRef<'_>,
+    a: Point,
+    b: Point,
+    blockers: &[Cell],
+    margin: f32,
+) -> bool {
+    // The quick tests, on `a -> b` as given. `m` is far above the walk's TOUCH_EPS reach
+    // (1.5e-4 with rounding) and far below the margin that `blockers` guarantees. They hold
+    // for the exact rule between cell centres too (it blocks on touching).
+    let m = margin * 0.125;
+    let (ex, ey) = (b.x - a.x, b.y - a.y);
+    let reach = libm::fabsf(ex) + libm::fabsf(ey);
+    let (xl, xh) = ordered(a.x, b.x);
+    let (yl, yh) = ordered(a.y, b.y);
+    // `Some(blocked)` when the quick tests settle cell `c`.
+    let quick = |c: &Cell| {
+        let (cx, cy) = (f32::from(c.x), f32::from(c.y));
+        // Distance from the cell's centre to the line, times |ab|, against the square's
+        // half-width projected on the line's normal, times |ab|.
+        let off = libm::fabsf(ex * (cy - a.y) - ey * (cx - a.x));
+        let gap = |h: f32| xl > cx + h || xh < cx - h || yl > cy + h || yh < cy - h;
+        if off > (0.5 + m) * reach || gap(0.5 + m) {
+            Some(false)
+        } else if off < (0.5 - m) * reach && !gap(0.5 - m) {
+            Some(true)
+        } else {
+            None
+        }
+    };
+    let mut grazed = false;
+    for c in blockers {
+        match quick(c) {
+            Some(true) => return false,
+            Some(false) => {}
+            None => grazed = true,
+        }
+    }
+    if !grazed {
+        return true;
+    }
+    // Between cell centres the exact rule decides; it is rare here, so it walks.
+    if centre_cell(a).is_some() && centre_cell(b).is_some() {
+        return segment_is_clear(grid, a, b);
+    }
+    // [`segment_is_clear`]'s orientation and `float_strips`' set-up.
+    let steep = (b.y - a.y).abs() > (b.x - a.x).abs();
+    let (pa, pb) = if steep {
+        ((a.x, a.y), (b.x, b.y))
+    } else {
+        ((a.y, a.x), (b.y, b.x))
+    };
+    let ((u0, v0), (u1, v1)) = if pa.0 <= pb.0 { (pa, pb) } else { (pb, pa) };
+    let (du, dv) = (u1 - u0, v1 - v0);
+    let s0 = crate::math::ceil_i(u0 - 0.5 - TOUCH_EPS);
+    let s1 = crate::math::floor_i(u1 + 0.5 + TOUCH_EPS);
+    let edge = |u: f32| v0 + (between(u, u0, u1) - u0) * dv / du;
+    for c in blockers.iter().filter(|c| quick(c).is_none()) {
+        let (s, p) = if steep {
+            (c.x as isize, c.y as isize)
+        } else {
+            (c.y as isize, c.x as isize)
+        };
+        if s < s0 || s > s1 {
+            continue;
+        }
+        // The walk carries the left edge over from the previous strip: `(s - 1) + 0.5` and
+        // `s - 0.5` are the same float, so computing it here gives the same value.
+        let (lo, hi) = if du == 0.0 {
+            ordered(v0, v1)
+        } else {
+            ordered(edge(s as f32 - 0.5), edge(s as f32 + 0.5))
+        };
+        let p0 = crate::math::ceil_i(lo - 0.5 - TOUCH_EPS);
+        let p1 = crate::math::floor_i(hi + 0.5 + TOUCH_EPS);
+        if p0 <= p && p <= p1 {
+            return false;
         }
     }
     true

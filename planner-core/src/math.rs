@@ -51,6 +51,12 @@ pub fn lesser(a: f32, b: f32) -> f32 {
     if b < a { b } else { a }
 }
 
+/// `a.max(b)` for a non-NaN `a`, by one comparison (see [`lesser`]).
+#[inline]
+pub fn greater(a: f32, b: f32) -> f32 {
+    if b > a { b } else { a }
+}
+
 /// `x.max(0.0)` by one comparison (see [`lesser`]); NaN gives 0, like `max`.
 #[inline]
 pub fn at_least_zero(x: f32) -> f32 {

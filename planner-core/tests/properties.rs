@@ -24,9 +24,9 @@
 //! - `blocked_cells_touched_counts_exactly`: the count of blocked (or outside) cells a
 //!   segment between cell centres touches equals the exact oracle's, for every pair within
 //!   one column of each other (the column encoding's steps) and a sample of others;
-//! - `blocked_cell_witnesses_are_proofs`: `segment_blocker` = `segment_is_clear`, with a
-//!   blocked cell the segment touches; a blocked cell that `segment_crosses_cell` accepts
-//!   proves the segment blocked, and a segment entering a cell deeply is accepted;
+//! - `hull_blockers_decide_their_segments`: on segments in a hull, the blocked cells
+//!   `hull_blockers` lists give `segment_is_clear`'s verdict exactly
+//!   (`segment_is_clear_among`);
 //! - `hull_is_clear_proves_its_segments`: a hull accepted by `hull_is_clear` holds only
 //!   segments that `segment_is_clear` and the exact rule accept, and a hull a cell and a half
 //!   away from everything is accepted;
@@ -36,8 +36,8 @@
 
 use planner_core::PlanError;
 use planner_core::geometry::{
-    Cell, Point, blocked_cells_touched, hull_is_clear, hull_margin, line_of_sight, segment_blocker,
-    segment_clearance, segment_crosses_cell, segment_is_clear,
+    Cell, Point, blocked_cells_touched, hull_blockers, hull_is_clear, hull_margin, line_of_sight,
+    segment_clearance, segment_is_clear, segment_is_clear_among,
 };
 use planner_core::grid::{Grid, words_for};
 use planner_core::path::{self, Path};
@@ -689,53 +689,53 @@ proptest! {
         }
     }
 
-    /// `segment_blocker` gives `segment_is_clear`'s verdict, and its cell is blocked (or
-    /// outside) and touched by the segment; `segment_crosses_cell` with the hull margin
-    /// proves a blocked cell's segment blocked (by the crate and by the exact rule), and
-    /// accepts every segment that enters the cell by twice the margin.
+    /// `hull_blockers` lists what can block a segment in the hull: for every sampled segment
+    /// between two points of the hull, `segment_is_clear_among` on the listed cells gives
+    /// `segment_is_clear`'s verdict exactly, and every listed cell is blocked.
     #[test]
-    fn blocked_cell_witnesses_are_proofs(
+    fn hull_blockers_decide_their_segments(
         m in map_strategy(),
-        pts in proptest::collection::vec((-80i32..=24 * 64 + 80, -80i32..=24 * 64 + 80), 2..40),
+        base in (0i32..24 * 16, 0i32..24 * 16),
+        offsets in proptest::collection::vec((-48i32..=48, -48i32..=48), 3),
+        samples in proptest::collection::vec((0u8..=16, 0u8..=16, 0u8..=16), 24),
     ) {
         let grid = m.grid();
         let g = grid.view();
         let margin = hull_margin(g);
-        let p = |(x, y): (i32, i32)| Point::new(x as f32 / 64.0, y as f32 / 64.0);
-        for w in pts.windows(2) {
-            let (a, b) = (p(w[0]), p(w[1]));
-            let clear = segment_is_clear(g, a, b);
-            let (verdict, witness) = segment_blocker(g, a, b, margin);
-            prop_assert_eq!(verdict, clear, "{:?} -> {:?}", a, b);
-            let (sa, sb) = (scaled(a), scaled(b));
-            if let Some(c) = witness {
-                let c = (i64::from(c.x), i64::from(c.y));
-                prop_assert!(!clear);
-                prop_assert!(m.blocked(c.0, c.1), "{:?} -> {:?}: {:?} is free", a, b, c);
-                // Touched, up to the check's TOUCH_EPS (1e-4 < 8 / FRAC).
-                prop_assert!(touches_box(sa, sb, c, FRAC / 2 + 8), "{:?} -> {:?}: {:?}", a, b, c);
+        let q = |(x, y): (i32, i32)| (f64::from(x) / 16.0, f64::from(y) / 16.0);
+        let b = q(base);
+        let pts: Vec<(f64, f64)> = core::iter::once(b)
+            .chain(offsets.iter().map(|&(dx, dy)| (b.0 + f64::from(dx) / 16.0, b.1 + f64::from(dy) / 16.0)))
+            .collect();
+        let hull: [Point; 4] = core::array::from_fn(|i| Point::new(pts[i].0 as f32, pts[i].1 as f32));
+        let mut cells = [Cell::new(0, 0); 4];
+        let Some(n) = hull_blockers(g, &hull, margin, &mut cells) else {
+            return Ok(());
+        };
+        prop_assert_eq!(n == 0, hull_is_clear(g, &hull, margin));
+        for c in &cells[..n] {
+            prop_assert!(m.blocked(i64::from(c.x), i64::from(c.y)));
+        }
+        let lerp = |a: (f64, f64), b: (f64, f64), t: u8| {
+            let t = f64::from(t) / 16.0;
+            (a.0 + (b.0 - a.0) * t, a.1 + (b.1 - a.1) * t)
+        };
+        let point = |(t1, t2, t3): (u8, u8, u8)| {
+            let p = lerp(lerp(pts[0], pts[1], t1), lerp(pts[2], pts[3], t2), t3);
+            Point::new(p.0 as f32, p.1 as f32)
+        };
+        let mut segments: Vec<(Point, Point)> = samples.windows(2).map(|w| (point(w[0]), point(w[1]))).collect();
+        for i in 0..4 {
+            for j in 0..4 {
+                segments.push((hull[i], hull[j]));
             }
-            let lo = |v: i64| v.div_euclid(FRAC) - 1;
-            let hi = |v: i64| v.div_euclid(FRAC) + 2;
-            for y in lo(sa.1.min(sb.1))..=hi(sa.1.max(sb.1)) {
-                for x in lo(sa.0.min(sb.0))..=hi(sa.0.max(sb.0)) {
-                    let (Ok(cx), Ok(cy)) = (u16::try_from(x), u16::try_from(y)) else {
-                        continue;
-                    };
-                    let crosses = segment_crosses_cell(a, b, Cell::new(cx, cy), margin);
-                    if crosses && m.blocked(x, y) {
-                        prop_assert!(!clear, "{:?} -> {:?} crosses blocked {:?}", a, b, (x, y));
-                        prop_assert!(!segment_ok_frac(&m, a, b));
-                    }
-                    let deep = touches_box(sa, sb, (x, y), FRAC / 2 - FRAC / 32);
-                    prop_assert!(!deep || crosses, "{:?} -> {:?} enters {:?}", a, b, (x, y));
-                    if crosses {
-                        // Sound geometry, whatever the cell: the segment meets the square
-                        // shrunk by the margin (less a rounding allowance).
-                        prop_assert!(touches_box(sa, sb, (x, y), FRAC / 2 - FRAC / 64 + 8));
-                    }
-                }
-            }
+        }
+        for (a, b) in segments {
+            prop_assert_eq!(
+                segment_is_clear_among(g, a, b, &cells[..n], margin),
+                segment_is_clear(g, a, b),
+                "{:?} -> {:?} among {:?}", a, b, &cells[..n]
+            );
         }
     }
 
