@@ -115,41 +115,67 @@ mod pair_state {
 /// warehouse; the rest are walked).
 const LISTED: usize = 2;
 
-/// Sets of blocked cells per station. With three, 1.5% of the legs checked through a set
-/// need their pair tested again because its set was replaced (TCLHHO, seed 000's 40x40).
-const SETS: usize = 3;
+/// Sets of blocked cells per station (at most four: a set index is two bits). With four,
+/// 0.7% of the legs checked through a set need their pair tested again because its set was
+/// replaced (1.5% with three; TCLHHO, seed 000's 40x40).
+const SETS: usize = 4;
 
 /// A station's sets of blocked cells, each cell as its offset from the station's cell (two
 /// bytes instead of four; a cell beyond +-127 of it is not listed: its pair walks).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 struct Blockers {
     cells: [[[i8; 2]; LISTED]; SETS],
-    /// The number of cells of each set.
-    lens: [u8; SETS],
-    /// Set indices, most recently used first (set by `build`; any order is valid).
-    order: [u8; SETS],
+    /// The number of cells of set `k`, in bits `2k..2k + 2` (one byte for all: the RAM
+    /// budget of the firmware left no room for a fourth set otherwise).
+    lens: u8,
+    /// The set indices, two bits each, the most recently used in the lowest bits (a
+    /// permutation, set by `build`).
+    order: u8,
 }
 
 impl Blockers {
     const EMPTY: Blockers = Blockers {
         cells: [[[0; 2]; LISTED]; SETS],
-        lens: [0; SETS],
-        order: [0; SETS],
+        lens: 0,
+        order: 0,
     };
 
-    /// Fresh sets in the initial order.
+    /// Fresh sets in the initial order (0 most recent).
     const FRESH: Blockers = Blockers {
-        order: [0, 1, 2],
+        order: 0b11_10_01_00,
         ..Blockers::EMPTY
     };
 
+    /// The number of cells of set `k`.
+    fn len(&self, k: usize) -> usize {
+        usize::from(self.lens >> (2 * (k % SETS)) & 3)
+    }
+
+    /// Sets set `k`'s cells.
+    fn put(&mut self, k: usize, cells: [[i8; 2]; LISTED], len: usize) {
+        let k = k % SETS;
+        self.cells[k] = cells;
+        self.lens = self.lens & !(3 << (2 * k)) | ((len as u8 & 3) << (2 * k));
+    }
+
+    /// The least recently used set.
+    fn oldest(&self) -> usize {
+        usize::from(self.order >> (2 * (SETS - 1)))
+    }
+
     /// Marks set `k` the most recently used.
-    fn touch(&mut self, k: u8) {
-        if self.order[0] != k {
-            let at = self.order.iter().position(|&o| o == k).unwrap_or(SETS - 1);
-            self.order.copy_within(0..at, 1);
-            self.order[0] = k;
+    fn touch(&mut self, k: usize) {
+        let order = u32::from(self.order);
+        let k = (k % SETS) as u32;
+        if order & 3 == k {
+            return;
         }
+        let at = (1..SETS as u32)
+            .find(|&p| order >> (2 * p) & 3 == k)
+            .unwrap_or(SETS as u32 - 1);
+        let below = order & ((1 << (2 * at)) - 1);
+        let above = order & !((1 << (2 * at + 2)) - 1);
+        self.order = (above | below << 2 | k) as u8;
     }
 }
 
@@ -560,20 +586,17 @@ impl<'a> CorridorEncoding<'a> {
             None => pair_state::WALK,
             Some(n) => {
                 let b = &mut st.blockers;
-                let same = (0..SETS).find(|&k| {
-                    usize::from(b.lens[k]) == n && b.cells[k].get(..n) == cells.get(..n)
-                });
+                let same =
+                    (0..SETS).find(|&k| b.len(k) == n && b.cells[k].get(..n) == cells.get(..n));
                 let k = match same {
-                    Some(k) => k as u8,
+                    Some(k) => k,
                     None => {
-                        let k = b.order[SETS - 1];
-                        let slot = usize::from(k) % SETS;
-                        b.cells[slot] = cells;
-                        b.lens[slot] = n as u8;
+                        let k = b.oldest();
+                        b.put(k, cells, n);
                         // Pairs that pointed to the replaced set must test again.
                         for w in 0..2 {
                             let [p0, p1, p2] = &mut st.states;
-                            let v = pair_state::IN_SET + u32::from(k);
+                            let v = pair_state::IN_SET + k as u32;
                             let pick = |plane: u32, on: bool| if on { plane } else { !plane };
                             let hit = pick(p0[w], v & 1 != 0)
                                 & pick(p1[w], v & 2 != 0)
@@ -587,7 +610,7 @@ impl<'a> CorridorEncoding<'a> {
                     }
                 };
                 st.blockers.touch(k);
-                pair_state::IN_SET + u32::from(k)
+                pair_state::IN_SET + k as u32
             }
         };
         for (plane, b) in st.states.iter_mut().zip(0..) {
@@ -606,10 +629,10 @@ impl<'a> CorridorEncoding<'a> {
     fn clear_among_set(&mut self, s: usize, a: Point, b: Point, k: u32) -> bool {
         let st = &mut self.stations[s];
         let k = (k as usize) % SETS;
-        st.blockers.touch(k as u8);
+        st.blockers.touch(k);
         let (bx, by) = (st.point.x as i32, st.point.y as i32);
         let mut cells = [Cell::new(0, 0); LISTED];
-        let n = usize::from(st.blockers.lens[k]).min(LISTED);
+        let n = st.blockers.len(k).min(LISTED);
         for (c, o) in cells.iter_mut().zip(&st.blockers.cells[k]) {
             // Offsets were taken from cells on the map: back on it.
             *c = Cell::new((bx + i32::from(o[0])) as u16, (by + i32::from(o[1])) as u16);
