@@ -503,6 +503,20 @@ pub fn segment_is_clear_among(
     blockers: &[Cell],
     margin: f32,
 ) -> bool {
+    let centre = |c: &Cell| Point::new(f32::from(c.x), f32::from(c.y));
+    clear_among(grid, a, b, blockers.iter().map(centre), margin)
+}
+
+/// [`segment_is_clear_among`] with the blocked cells given by their centres (integral
+/// coordinates on the map), as the corridor encoding stores them.
+#[inline]
+pub(crate) fn clear_among(
+    grid: GridRef<'_>,
+    a: Point,
+    b: Point,
+    centres: impl Iterator<Item = Point> + Clone,
+    margin: f32,
+) -> bool {
     // The quick tests, on `a -> b` as given. `m` is far above the walk's TOUCH_EPS reach
     // (1.5e-4 with rounding) and far below the margin that `blockers` guarantees. They hold
     // for the exact rule between cell centres too (it blocks on touching).
@@ -512,8 +526,8 @@ pub fn segment_is_clear_among(
     let (xl, xh) = ordered(a.x, b.x);
     let (yl, yh) = ordered(a.y, b.y);
     // `Some(blocked)` when the quick tests settle cell `c`.
-    let quick = |c: &Cell| {
-        let (cx, cy) = (f32::from(c.x), f32::from(c.y));
+    let quick = |c: &Point| {
+        let (cx, cy) = (c.x, c.y);
         // Distance from the cell's centre to the line, times |ab|, against the square's
         // half-width projected on the line's normal, times |ab|.
         let off = libm::fabsf(ex * (cy - a.y) - ey * (cx - a.x));
@@ -527,8 +541,8 @@ pub fn segment_is_clear_among(
         }
     };
     let mut grazed = false;
-    for c in blockers {
-        match quick(c) {
+    for c in centres.clone() {
+        match quick(&c) {
             Some(true) => return false,
             Some(false) => {}
             None => grazed = true,
@@ -553,7 +567,7 @@ pub fn segment_is_clear_among(
     let s0 = crate::math::ceil_i(u0 - 0.5 - TOUCH_EPS);
     let s1 = crate::math::floor_i(u1 + 0.5 + TOUCH_EPS);
     let edge = |u: f32| v0 + (between(u, u0, u1) - u0) * dv / du;
-    for c in blockers.iter().filter(|c| quick(c).is_none()) {
+    for c in centres.filter(|c| quick(c).is_none()) {
         let (s, p) = if steep {
             (c.x as isize, c.y as isize)
         } else {

@@ -19,9 +19,7 @@
 
 use super::Encoding;
 use crate::error::PlanError;
-use crate::geometry::{
-    Cell, Point, hull_blockers, hull_margin, segment_is_clear, segment_is_clear_among,
-};
+use crate::geometry::{Cell, Point, clear_among, hull_blockers, hull_margin, segment_is_clear};
 use crate::grid::GridRef;
 use crate::path::PathView;
 
@@ -164,12 +162,18 @@ impl Blockers {
     }
 
     /// Marks set `k` the most recently used.
+    #[inline(always)]
     fn touch(&mut self, k: usize) {
+        if usize::from(self.order & 3) != k {
+            self.promote(k);
+        }
+    }
+
+    /// [`touch`](Self::touch) for a set that is not the most recent one.
+    #[inline(never)]
+    fn promote(&mut self, k: usize) {
         let order = u32::from(self.order);
         let k = (k % SETS) as u32;
-        if order & 3 == k {
-            return;
-        }
         let at = (1..SETS as u32)
             .find(|&p| order >> (2 * p) & 3 == k)
             .unwrap_or(SETS as u32 - 1);
@@ -567,19 +571,23 @@ impl<'a> CorridorEncoding<'a> {
         let count = hull_blockers(self.grid, &hull, self.margin, &mut found);
         let st = &mut self.stations[s];
         let (bx, by) = (st.point.x as i32, st.point.y as i32);
-        // Offsets from the station's cell; `None` if one does not fit.
+        // Offsets from the station's cell; `None` if one does not fit, or if the station is
+        // not at a cell centre (a guide that is not a grid path), which the offsets assume.
+        let centred = bx as f32 == st.point.x && by as f32 == st.point.y;
         let mut cells = [[0i8; 2]; LISTED];
         let fits = count.filter(|&n| {
-            found.iter().zip(&mut cells).take(n).all(|(c, o)| {
-                let (dx, dy) = (i32::from(c.x) - bx, i32::from(c.y) - by);
-                match (i8::try_from(dx), i8::try_from(dy)) {
-                    (Ok(dx), Ok(dy)) => {
-                        *o = [dx, dy];
-                        true
-                    }
-                    _ => false,
-                }
-            })
+            n == 0
+                || centred
+                    && found.iter().zip(&mut cells).take(n).all(|(c, o)| {
+                        let (dx, dy) = (i32::from(c.x) - bx, i32::from(c.y) - by);
+                        match (i8::try_from(dx), i8::try_from(dy)) {
+                            (Ok(dx), Ok(dy)) => {
+                                *o = [dx, dy];
+                                true
+                            }
+                            _ => false,
+                        }
+                    })
         });
         let state = match fits {
             Some(0) => pair_state::CLEAR,
@@ -630,14 +638,13 @@ impl<'a> CorridorEncoding<'a> {
         let st = &mut self.stations[s];
         let k = (k as usize) % SETS;
         st.blockers.touch(k);
-        let (bx, by) = (st.point.x as i32, st.point.y as i32);
-        let mut cells = [Cell::new(0, 0); LISTED];
-        let n = st.blockers.len(k).min(LISTED);
-        for (c, o) in cells.iter_mut().zip(&st.blockers.cells[k]) {
-            // Offsets were taken from cells on the map: back on it.
-            *c = Cell::new((bx + i32::from(o[0])) as u16, (by + i32::from(o[1])) as u16);
-        }
-        segment_is_clear_among(self.grid, a, b, &cells[..n], self.margin)
+        let st = &self.stations[s];
+        // The station's point is a cell centre (the guide is a grid path), so the cells'
+        // centres are its coordinates plus the offsets.
+        let p = st.point;
+        let centres = st.blockers.cells[k].iter().take(st.blockers.len(k));
+        let centres = centres.map(|o| Point::new(p.x + f32::from(o[0]), p.y + f32::from(o[1])));
+        clear_among(self.grid, a, b, centres, self.margin)
     }
 
     /// Whether leg `s` from `a` to `b` (waypoints with their offsets) is clear: the cached
