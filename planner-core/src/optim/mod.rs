@@ -52,6 +52,7 @@ pub mod schedule;
 pub mod ssa;
 pub mod ssa_gwo;
 pub mod tent;
+mod ziggurat;
 
 use random::Random;
 
