@@ -140,7 +140,15 @@ impl Blockers {
 
     /// Fresh sets in the initial order (0 most recent).
     const FRESH: Blockers = Blockers {
-        order: 0b11_10_01_00,
+        order: {
+            let mut order = 0;
+            let mut k = 0;
+            while k < SETS {
+                order |= (k as u8) << (2 * k);
+                k += 1;
+            }
+            order
+        },
         ..Blockers::EMPTY
     };
 
@@ -158,7 +166,7 @@ impl Blockers {
 
     /// The least recently used set.
     fn oldest(&self) -> usize {
-        usize::from(self.order >> (2 * (SETS - 1)))
+        usize::from(self.order >> (2 * (SETS - 1)) & 3)
     }
 
     /// Marks set `k` the most recently used.
