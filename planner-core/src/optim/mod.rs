@@ -161,7 +161,20 @@ impl<const D: usize> Bounds<D> {
         if lower.len() != upper.len() {
             return Err(OptimError::InvalidBounds);
         }
-        let dim = lower.len();
+        Self::from_fn(lower.len(), |i| {
+            (
+                lower.get(i).copied().unwrap_or(f32::NAN),
+                upper.get(i).copied().unwrap_or(f32::NAN),
+            )
+        })
+    }
+
+    /// Bounds of `dim` dimensions, `(lower, upper)` of dimension `i` from `interval(i)`
+    /// (without two capacity-sized arrays on the caller's stack).
+    pub fn from_fn(
+        dim: usize,
+        mut interval: impl FnMut(usize) -> (f32, f32),
+    ) -> Result<Self, OptimError> {
         if dim == 0 || dim > D {
             return Err(OptimError::DimensionOutOfRange);
         }
@@ -170,14 +183,17 @@ impl<const D: usize> Bounds<D> {
             upper: [0.0; D],
             dim,
         };
-        for ((l, u), (sl, su)) in lower
-            .iter()
-            .zip(upper)
-            .zip(b.lower.iter_mut().zip(b.upper.iter_mut()))
+        for (i, (sl, su)) in b
+            .lower
+            .iter_mut()
+            .zip(b.upper.iter_mut())
+            .take(dim)
+            .enumerate()
         {
-            check_interval(*l, *u)?;
-            *sl = *l;
-            *su = *u;
+            let (l, u) = interval(i);
+            check_interval(l, u)?;
+            *sl = l;
+            *su = u;
         }
         Ok(b)
     }

@@ -590,12 +590,7 @@ fn optimise<const N: usize, const D: usize, E: Encoding, O: PlanOptimizer<N, D>>
     if dim == 0 || dim > D {
         return Err(PlanError::CapacityExceeded);
     }
-    let mut lower = [0.0f32; D];
-    let mut upper = [0.0f32; D];
-    for i in 0..dim {
-        (lower[i], upper[i]) = enc.bounds(i);
-    }
-    let bounds = Bounds::<D>::from_slices(&lower[..dim], &upper[..dim]).map_err(optim_error)?;
+    let bounds = Bounds::<D>::from_fn(dim, |i| enc.bounds(i)).map_err(optim_error)?;
     let settings = Settings {
         population: params.population,
         iterations: params.iterations,
