@@ -37,7 +37,7 @@ pub struct Station {
     /// Guide length from this station to the next.
     arc_to_next: f32,
     /// The leg to the next station, cached per pair of waypoint intervals (see
-    /// [`pair_bit`]): a [`PairState`] of three bits, one in each plane.
+    /// [`pair_bit`]): a [`pair_state`] of three bits, one in each plane.
     states: [[u32; 2]; 3],
     /// The blocked cells near the hulls of the leg's pairs, in up to [`SETS`] sets that
     /// pairs point to; see [`Blockers`].
@@ -92,9 +92,10 @@ fn offset_of(v: f32) -> f32 {
 ///
 /// Most legs that the hull test cannot prove clear pass an obstacle's corner: the hull of
 /// their pair comes near one or two blocked cells, and only those can block them. Knowing
-/// them, [`segment_is_clear_among`] gives the walk's verdict from their strips alone (a
-/// fifth of a walk). Neighbouring pairs mostly share the same cells, so pairs point to a few
-/// shared sets.
+/// them, [`segment_is_clear_among`](crate::geometry::segment_is_clear_among) gives the
+/// walk's verdict from those cells alone (mostly by a separating-axis test; a fifth of a
+/// walk on average). Neighbouring pairs mostly share the same cells, so pairs point to a
+/// few shared sets.
 mod pair_state {
     /// Not tested yet.
     pub const UNTESTED: u32 = 0;
@@ -257,11 +258,14 @@ fn slack(legs: usize) -> f32 {
 ///
 /// Most legs of a candidate run through open floor, yet an exact check walks every cell
 /// strip they cross. So each leg caches, per pair of waypoint intervals (an eighth of the
-/// offset range at each end), whether the convex hull of the two intervals (the union of all
-/// legs between them) keeps [`hull_margin`] clear of obstacles: if it does, every leg in it
-/// is clear without a walk (see [`hull_is_clear`]); pairs that touch an obstacle fall back to
-/// the exact check. The cache only skips work: costs and decodings are bit for bit those of
-/// the exact check alone.
+/// offset range at each end), what the convex hull of the two intervals (the union of all
+/// legs between them) comes near (see [`hull_blockers`]): nothing within [`hull_margin`],
+/// and every leg in it is clear without a walk; one or two blocked cells, and a leg is
+/// judged from those cells alone ([`segment_is_clear_among`]); more, and it is walked. The
+/// cache only skips work: costs and decodings are bit for bit those of the exact check
+/// alone.
+///
+/// [`segment_is_clear_among`]: crate::geometry::segment_is_clear_among
 #[derive(Debug)]
 pub struct CorridorEncoding<'a> {
     grid: GridRef<'a>,
