@@ -487,10 +487,11 @@ pub fn hull_blockers(
 }
 
 /// [`segment_is_clear`]'s verdict on `a -> b` from the only blocked cells that can block it:
-/// `blockers` must list every blocked cell within [`hull_margin`] of the segment (as
-/// [`hull_blockers`] does for a hull that holds it), and the segment must be inside the map
-/// by that margin. Bit for bit the walk's verdict: for each blocker it computes only that
-/// cell's strip of the walk, the same way.
+/// `blockers` must list every blocked cell within `margin` (at least [`hull_margin`]) of the
+/// segment and no free cell (as [`hull_blockers`] does for a hull that holds the segment),
+/// and the segment must be inside the map by that margin. Bit for bit the walk's verdict:
+/// for each blocker it computes only that cell's strip of the walk, the same way. A
+/// non-finite end point is blocked, as in [`segment_is_clear`].
 ///
 /// Most cells are settled by a separating-axis test first, a few dozen instructions: a
 /// segment farther than `margin / 8` from the cell is not walked through it, and one that
@@ -503,12 +504,16 @@ pub fn segment_is_clear_among(
     blockers: &[Cell],
     margin: f32,
 ) -> bool {
+    if !(a.is_finite() && b.is_finite()) {
+        return false;
+    }
     let centre = |c: &Cell| Point::new(f32::from(c.x), f32::from(c.y));
     clear_among(grid, a, b, blockers.iter().map(centre), margin)
 }
 
 /// [`segment_is_clear_among`] with the blocked cells given by their centres (integral
-/// coordinates on the map), as the corridor encoding stores them.
+/// coordinates on the map), as the corridor encoding stores them, and finite end points
+/// (the corridor's waypoints always are).
 #[inline]
 pub(crate) fn clear_among(
     grid: GridRef<'_>,
@@ -699,6 +704,27 @@ mod tests {
     use crate::grid::{Grid, words_for};
 
     type G = Grid<{ words_for(16, 16) }>;
+
+    #[test]
+    fn judging_among_blocked_cells_refuses_non_finite_ends() {
+        let g = grid(b".....\n..@..\n.....\n");
+        let m = hull_margin(g.view());
+        let (p, q) = (Point::new(0.25, 0.0), Point::new(4.0, 0.25));
+        let wall = [Cell::new(2, 1)];
+        assert!(segment_is_clear_among(g.view(), p, q, &wall, m));
+        assert!(!segment_is_clear_among(
+            g.view(),
+            p,
+            Point::new(4.0, 1.0),
+            &wall,
+            m
+        ));
+        for bad in [f32::NAN, f32::INFINITY] {
+            let r = Point::new(bad, 0.25);
+            assert!(!segment_is_clear_among(g.view(), p, r, &wall, m));
+            assert!(!segment_is_clear_among(g.view(), r, q, &[], m));
+        }
+    }
 
     fn grid(rows: &[u8]) -> G {
         G::parse_rows(rows).unwrap()
