@@ -248,6 +248,43 @@ fn touches_box(a: (i64, i64), b: (i64, i64), c: (i64, i64), h: i64) -> bool {
 
 /// Exact rule for arbitrary (dyadic) points: the segment touches no blocked cell and no
 /// cell outside the map.
+/// A random map, a hull's base point and three offsets (see [`sampled_hull`]), and 24
+/// weight triples for [`hull_point`].
+#[allow(clippy::type_complexity)]
+fn hull_case_strategy()
+-> impl Strategy<Value = (Map, (i32, i32), Vec<(i32, i32)>, Vec<(u8, u8, u8)>)> {
+    (
+        map_strategy(),
+        (0i32..24 * 16, 0i32..24 * 16),
+        proptest::collection::vec((-48i32..=48, -48i32..=48), 3),
+        proptest::collection::vec((0u8..=16, 0u8..=16, 0u8..=16), 24),
+    )
+}
+
+/// Four points in 1/16 cell, `base` and `base + offsets` (in f64 and as `Point`s): a random
+/// hull for the hull tests. Samples mix them with weights in 1/16 ([`hull_point`]), so the
+/// sampled points are multiples of 2^-12, exact in f32 and in the oracle's 2^-16 units.
+fn sampled_hull(base: (i32, i32), offsets: &[(i32, i32)]) -> (Vec<(f64, f64)>, [Point; 4]) {
+    let q = |v: i32| f64::from(v) / 16.0;
+    let b = (q(base.0), q(base.1));
+    let pts: Vec<(f64, f64)> = core::iter::once(b)
+        .chain(offsets.iter().map(|&(dx, dy)| (b.0 + q(dx), b.1 + q(dy))))
+        .collect();
+    let hull = core::array::from_fn(|i| Point::new(pts[i].0 as f32, pts[i].1 as f32));
+    (pts, hull)
+}
+
+/// A point of the hull of `pts` (four points): on the segment between a point of edge 0-1
+/// and one of edge 2-3 (those segments sweep the whole hull), weights in 1/16.
+fn hull_point(pts: &[(f64, f64)], (t1, t2, t3): (u8, u8, u8)) -> Point {
+    let lerp = |a: (f64, f64), b: (f64, f64), t: u8| {
+        let t = f64::from(t) / 16.0;
+        (a.0 + (b.0 - a.0) * t, a.1 + (b.1 - a.1) * t)
+    };
+    let p = lerp(lerp(pts[0], pts[1], t1), lerp(pts[2], pts[3], t2), t3);
+    Point::new(p.0 as f32, p.1 as f32)
+}
+
 fn segment_ok_frac(m: &Map, a: Point, b: Point) -> bool {
     let (sa, sb) = (scaled(a), scaled(b));
     let lo = |v: i64| v.div_euclid(FRAC) - 1;
@@ -694,20 +731,12 @@ proptest! {
     /// `segment_is_clear`'s verdict exactly, and every listed cell is blocked.
     #[test]
     fn hull_blockers_decide_their_segments(
-        m in map_strategy(),
-        base in (0i32..24 * 16, 0i32..24 * 16),
-        offsets in proptest::collection::vec((-48i32..=48, -48i32..=48), 3),
-        samples in proptest::collection::vec((0u8..=16, 0u8..=16, 0u8..=16), 24),
+        (m, base, offsets, samples) in hull_case_strategy(),
     ) {
         let grid = m.grid();
         let g = grid.view();
         let margin = hull_margin(g);
-        let q = |(x, y): (i32, i32)| (f64::from(x) / 16.0, f64::from(y) / 16.0);
-        let b = q(base);
-        let pts: Vec<(f64, f64)> = core::iter::once(b)
-            .chain(offsets.iter().map(|&(dx, dy)| (b.0 + f64::from(dx) / 16.0, b.1 + f64::from(dy) / 16.0)))
-            .collect();
-        let hull: [Point; 4] = core::array::from_fn(|i| Point::new(pts[i].0 as f32, pts[i].1 as f32));
+        let (pts, hull) = sampled_hull(base, &offsets);
         let mut cells = [Cell::new(0, 0); 4];
         let Some(n) = hull_blockers(g, &hull, margin, &mut cells) else {
             return Ok(());
@@ -716,14 +745,7 @@ proptest! {
         for c in &cells[..n] {
             prop_assert!(m.blocked(i64::from(c.x), i64::from(c.y)));
         }
-        let lerp = |a: (f64, f64), b: (f64, f64), t: u8| {
-            let t = f64::from(t) / 16.0;
-            (a.0 + (b.0 - a.0) * t, a.1 + (b.1 - a.1) * t)
-        };
-        let point = |(t1, t2, t3): (u8, u8, u8)| {
-            let p = lerp(lerp(pts[0], pts[1], t1), lerp(pts[2], pts[3], t2), t3);
-            Point::new(p.0 as f32, p.1 as f32)
-        };
+        let point = |t| hull_point(&pts, t);
         let mut segments: Vec<(Point, Point)> = samples.windows(2).map(|w| (point(w[0]), point(w[1]))).collect();
         for i in 0..4 {
             for j in 0..4 {
@@ -746,33 +768,14 @@ proptest! {
     /// border is accepted.
     #[test]
     fn hull_is_clear_proves_its_segments(
-        m in map_strategy(),
-        base in (0i32..24 * 16, 0i32..24 * 16),
-        offsets in proptest::collection::vec((-48i32..=48, -48i32..=48), 3),
-        samples in proptest::collection::vec((0u8..=16, 0u8..=16, 0u8..=16), 24),
+        (m, base, offsets, samples) in hull_case_strategy(),
     ) {
         let grid = m.grid();
         let g = grid.view();
-        // Points in 1/16 cell; samples mix them with weights in 1/16: the sampled points
-        // are multiples of 2^-12, exact in f32 and in the oracle's 2^-16 units.
-        let q = |(x, y): (i32, i32)| (f64::from(x) / 16.0, f64::from(y) / 16.0);
-        let b = q(base);
-        let pts: Vec<(f64, f64)> = core::iter::once(b)
-            .chain(offsets.iter().map(|&(dx, dy)| (b.0 + f64::from(dx) / 16.0, b.1 + f64::from(dy) / 16.0)))
-            .collect();
-        let hull: [Point; 4] = core::array::from_fn(|i| Point::new(pts[i].0 as f32, pts[i].1 as f32));
+        let (pts, hull) = sampled_hull(base, &offsets);
         let accepted = hull_is_clear(g, &hull, hull_margin(g));
-        let lerp = |a: (f64, f64), b: (f64, f64), t: u8| {
-            let t = f64::from(t) / 16.0;
-            (a.0 + (b.0 - a.0) * t, a.1 + (b.1 - a.1) * t)
-        };
         if accepted {
-            // A point of the hull: on a segment between a point of edge 0-1 and one of 2-3
-            // (those segments sweep the whole hull).
-            let point = |(t1, t2, t3): (u8, u8, u8)| {
-                let p = lerp(lerp(pts[0], pts[1], t1), lerp(pts[2], pts[3], t2), t3);
-                Point::new(p.0 as f32, p.1 as f32)
-            };
+            let point = |t| hull_point(&pts, t);
             for w in samples.windows(2) {
                 let (a, b) = (point(w[0]), point(w[1]));
                 prop_assert!(segment_is_clear(g, a, b), "{:?}: {:?} -> {:?}", hull, a, b);
