@@ -292,51 +292,119 @@ pub fn segment_is_clear(grid: GridRef<'_>, a: Point, b: Point) -> bool {
     if !inside(a) || !inside(b) {
         return false;
     }
-    if (b.y - a.y).abs() > (b.x - a.x).abs() {
-        float_strips((a.x, a.y), (b.x, b.y), |c, lo, hi| {
-            grid.column_run_blocked(c, lo, hi)
-        })
+    let strips = Strips::new(a, b);
+    if strips.columns {
+        strips.walk(|c, lo, hi| grid.column_run_blocked(c, lo, hi))
     } else {
-        float_strips((a.y, a.x), (b.y, b.x), |r, lo, hi| {
-            grid.row_run_blocked(r, lo, hi)
-        })
+        strips.walk(|r, lo, hi| grid.row_run_blocked(r, lo, hi))
     }
 }
 
-/// [`exact_strips`] for fractional end points, widened by [`TOUCH_EPS`] on every side.
-fn float_strips(
-    a: (f32, f32),
-    b: (f32, f32),
-    mut blocked: impl FnMut(isize, isize, isize) -> bool,
-) -> bool {
-    let ((u0, v0), (u1, v1)) = if a.0 <= b.0 { (a, b) } else { (b, a) };
-    let (du, dv) = (u1 - u0, v1 - v0);
-    let s0 = crate::math::ceil_i(u0 - 0.5 - TOUCH_EPS);
-    let s1 = crate::math::floor_i(u1 + 0.5 + TOUCH_EPS);
-    // `v` on the strip edge at `u`, clamped to the segment: a strip reached only through
-    // TOUCH_EPS is touched near an end point, and extrapolating the line there would run
-    // away when du is tiny. Multiply before dividing: exact whenever the true value is
-    // representable, which keeps corner touches exact.
-    let edge = |u: f32| v0 + (between(u, u0, u1) - u0) * dv / du;
-    // Neighbouring strips share an edge (`s + 0.5` and `(s + 1) - 0.5` are the same float
-    // for any map size), so each edge is computed once.
-    let mut vl = if du == 0.0 { v0 } else { edge(s0 as f32 - 0.5) };
-    for s in s0..=s1 {
-        let (lo, hi) = if du == 0.0 {
-            ordered(v0, v1)
+/// A segment between fractional points cut into unit strips, as [`segment_is_clear`] walks
+/// it ([`exact_strips`] for fractional end points, widened by [`TOUCH_EPS`] on every side):
+/// strips `s0..=s1` across the coordinate `u`, each with the run of cells along `v` that the
+/// segment touches. [`clear_among`] looks at single strips of the same walk, so both give
+/// the same verdict bit for bit.
+struct Strips {
+    /// Strips are columns (`u = x`, for a segment steeper than 45 degrees), else rows.
+    columns: bool,
+    u0: f32,
+    v0: f32,
+    u1: f32,
+    v1: f32,
+    du: f32,
+    dv: f32,
+    s0: isize,
+    s1: isize,
+}
+
+impl Strips {
+    #[inline(always)]
+    fn new(a: Point, b: Point) -> Self {
+        let columns = (b.y - a.y).abs() > (b.x - a.x).abs();
+        let (a, b) = if columns {
+            ((a.x, a.y), (b.x, b.y))
         } else {
-            let vr = edge(s as f32 + 0.5);
-            let run = ordered(vl, vr);
-            vl = vr;
-            run
+            ((a.y, a.x), (b.y, b.x))
         };
-        let p0 = crate::math::ceil_i(lo - 0.5 - TOUCH_EPS);
-        let p1 = crate::math::floor_i(hi + 0.5 + TOUCH_EPS);
-        if blocked(s, p0, p1) {
-            return false;
+        let ((u0, v0), (u1, v1)) = if a.0 <= b.0 { (a, b) } else { (b, a) };
+        Strips {
+            columns,
+            u0,
+            v0,
+            u1,
+            v1,
+            du: u1 - u0,
+            dv: v1 - v0,
+            s0: crate::math::ceil_i(u0 - 0.5 - TOUCH_EPS),
+            s1: crate::math::floor_i(u1 + 0.5 + TOUCH_EPS),
         }
     }
-    true
+
+    /// `v` on the strip edge at `u`, clamped to the segment: a strip reached only through
+    /// TOUCH_EPS is touched near an end point, and extrapolating the line there would run
+    /// away when du is tiny. Multiply before dividing: exact whenever the true value is
+    /// representable, which keeps corner touches exact. (Not for `du == 0`.)
+    #[inline(always)]
+    fn edge(&self, u: f32) -> f32 {
+        self.v0 + (between(u, self.u0, self.u1) - self.u0) * self.dv / self.du
+    }
+
+    /// The run of cells of a strip that the segment crosses between `v = lo` and `v = hi`.
+    #[inline(always)]
+    fn run(&self, (lo, hi): (f32, f32)) -> (isize, isize) {
+        (
+            crate::math::ceil_i(lo - 0.5 - TOUCH_EPS),
+            crate::math::floor_i(hi + 0.5 + TOUCH_EPS),
+        )
+    }
+
+    /// Walks the strips in order; false as soon as `blocked(strip, first, last)` is.
+    #[inline(always)]
+    fn walk(&self, mut blocked: impl FnMut(isize, isize, isize) -> bool) -> bool {
+        // Neighbouring strips share an edge (`s + 0.5` and `(s + 1) - 0.5` are the same
+        // float for any map size), so each edge is computed once.
+        let mut vl = if self.du == 0.0 {
+            self.v0
+        } else {
+            self.edge(self.s0 as f32 - 0.5)
+        };
+        for s in self.s0..=self.s1 {
+            let (p0, p1) = self.run(if self.du == 0.0 {
+                ordered(self.v0, self.v1)
+            } else {
+                let vr = self.edge(s as f32 + 0.5);
+                let span = ordered(vl, vr);
+                vl = vr;
+                span
+            });
+            if blocked(s, p0, p1) {
+                return false;
+            }
+        }
+        true
+    }
+
+    /// Whether the walk visits the cell centred on `c` (integral coordinates): its strip is
+    /// walked and its run holds it. The strip's left edge is computed afresh, which gives
+    /// the walk's value (see [`walk`](Self::walk)).
+    #[inline(always)]
+    fn visits(&self, c: Point) -> bool {
+        let (s, p) = if self.columns {
+            (c.x as isize, c.y as isize)
+        } else {
+            (c.y as isize, c.x as isize)
+        };
+        if s < self.s0 || s > self.s1 {
+            return false;
+        }
+        let (p0, p1) = self.run(if self.du == 0.0 {
+            ordered(self.v0, self.v1)
+        } else {
+            ordered(self.edge(s as f32 - 0.5), self.edge(s as f32 + 0.5))
+        });
+        p0 <= p && p <= p1
+    }
 }
 
 /// `x.clamp(lo, hi)` for `lo <= hi` without `clamp`'s assertion, whose message formats
@@ -560,41 +628,11 @@ pub(crate) fn clear_among(
     if centre_cell(a).is_some() && centre_cell(b).is_some() {
         return segment_is_clear(grid, a, b);
     }
-    // [`segment_is_clear`]'s orientation and `float_strips`' set-up.
-    let steep = (b.y - a.y).abs() > (b.x - a.x).abs();
-    let (pa, pb) = if steep {
-        ((a.x, a.y), (b.x, b.y))
-    } else {
-        ((a.y, a.x), (b.y, b.x))
-    };
-    let ((u0, v0), (u1, v1)) = if pa.0 <= pb.0 { (pa, pb) } else { (pb, pa) };
-    let (du, dv) = (u1 - u0, v1 - v0);
-    let s0 = crate::math::ceil_i(u0 - 0.5 - TOUCH_EPS);
-    let s1 = crate::math::floor_i(u1 + 0.5 + TOUCH_EPS);
-    let edge = |u: f32| v0 + (between(u, u0, u1) - u0) * dv / du;
-    for c in centres.filter(|c| quick(c).is_none()) {
-        let (s, p) = if steep {
-            (c.x as isize, c.y as isize)
-        } else {
-            (c.y as isize, c.x as isize)
-        };
-        if s < s0 || s > s1 {
-            continue;
-        }
-        // The walk carries the left edge over from the previous strip: `(s - 1) + 0.5` and
-        // `s - 0.5` are the same float, so computing it here gives the same value.
-        let (lo, hi) = if du == 0.0 {
-            ordered(v0, v1)
-        } else {
-            ordered(edge(s as f32 - 0.5), edge(s as f32 + 0.5))
-        };
-        let p0 = crate::math::ceil_i(lo - 0.5 - TOUCH_EPS);
-        let p1 = crate::math::floor_i(hi + 0.5 + TOUCH_EPS);
-        if p0 <= p && p <= p1 {
-            return false;
-        }
-    }
-    true
+    // The grazed cells: the walk's own strips.
+    let strips = Strips::new(a, b);
+    !centres
+        .filter(|c| quick(c).is_none())
+        .any(|c| strips.visits(c))
 }
 
 /// Distance from a segment to the nearest blocked cell (or the map's outside), capped at
