@@ -36,9 +36,8 @@ pub struct Station {
     reach: [f32; 2],
     /// Guide length from this station to the next.
     arc_to_next: f32,
-    /// The leg to the next station, cached per pair of waypoint intervals (see
-    /// [`pair_bit`]): a [`pair_state`] of three bits, one in each plane.
-    states: [[u32; 2]; 3],
+    /// The leg to the next station, cached per pair of waypoint intervals.
+    states: PairStates,
     /// The blocked cells near the hulls of the leg's pairs, in up to [`SETS`] sets that
     /// pairs point to; see [`Blockers`].
     blockers: Blockers,
@@ -58,7 +57,7 @@ impl Station {
         normal: (0.0, 0.0),
         reach: [0.0; 2],
         arc_to_next: 0.0,
-        states: [[0; 2]; 3],
+        states: PairStates::EMPTY,
         blockers: Blockers::EMPTY,
         waypoint: Point::new(0.0, 0.0),
         straight: 0.0,
@@ -107,6 +106,56 @@ mod pair_state {
     pub const DISPLACED: u32 = 3;
     /// Its blocked cells are set `state - IN_SET` of the station's [`super::Blockers`].
     pub const IN_SET: u32 = 4;
+}
+
+/// The [`pair_state`] of each interval pair of a leg: three bits a pair, one in each of three
+/// 64-bit planes (two 32-bit words each, addressed by [`pair_bit`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+struct PairStates([[u32; 2]; 3]);
+
+impl PairStates {
+    const EMPTY: PairStates = PairStates([[0; 2]; 3]);
+
+    /// Whether the pair is [`pair_state::CLEAR`] (`0b001`), from the three words at once:
+    /// most leg checks end here.
+    #[inline(always)]
+    fn is_clear(&self, (w, bit): (usize, u32)) -> bool {
+        let [p0, p1, p2] = &self.0;
+        p0[w] & !(p1[w] | p2[w]) & bit != 0
+    }
+
+    /// The pair's state.
+    #[inline(always)]
+    fn get(&self, (w, bit): (usize, u32)) -> u32 {
+        let [p0, p1, p2] = &self.0;
+        let on = |plane: &[u32; 2], shift: u32| u32::from(plane[w] & bit != 0) << shift;
+        on(p0, 0) | on(p1, 1) | on(p2, 2)
+    }
+
+    /// Sets the pair's state.
+    fn set(&mut self, (w, bit): (usize, u32), state: u32) {
+        for (plane, b) in self.0.iter_mut().zip(0..) {
+            if state >> b & 1 != 0 {
+                plane[w] |= bit;
+            } else {
+                plane[w] &= !bit;
+            }
+        }
+    }
+
+    /// Every pair in state `state` goes to [`pair_state::DISPLACED`] (`0b011`).
+    fn displace(&mut self, state: u32) {
+        let [p0, p1, p2] = &mut self.0;
+        let pick = |plane: u32, on: bool| if on { plane } else { !plane };
+        for w in 0..2 {
+            let hit = pick(p0[w], state & 1 != 0)
+                & pick(p1[w], state & 2 != 0)
+                & pick(p2[w], state & 4 != 0);
+            p0[w] |= hit;
+            p1[w] |= hit;
+            p2[w] &= !hit;
+        }
+    }
 }
 
 /// Most blocked cells in one set (see [`pair_state`]). In the firmware's TCLHHO plan on seed
@@ -571,7 +620,7 @@ impl<'a> CorridorEncoding<'a> {
     /// deepen the stack frame of every evaluation.
     #[inline(never)]
     fn test_pair(&mut self, s: usize, i: usize, j: usize) -> u32 {
-        let (w, bit) = pair_bit(i, j);
+        let pair = pair_bit(i, j);
         let ((a0, a1), (b0, b1)) = (interval(i), interval(j));
         let hull = [
             self.at(s, a0),
@@ -608,38 +657,18 @@ impl<'a> CorridorEncoding<'a> {
                 let b = &mut st.blockers;
                 let same =
                     (0..SETS).find(|&k| b.len(k) == n && b.cells[k].get(..n) == cells.get(..n));
-                let k = match same {
-                    Some(k) => k,
-                    None => {
-                        let k = b.oldest();
-                        b.put(k, cells, n);
-                        // Pairs that pointed to the replaced set must test again.
-                        for w in 0..2 {
-                            let [p0, p1, p2] = &mut st.states;
-                            let v = pair_state::IN_SET + k as u32;
-                            let pick = |plane: u32, on: bool| if on { plane } else { !plane };
-                            let hit = pick(p0[w], v & 1 != 0)
-                                & pick(p1[w], v & 2 != 0)
-                                & pick(p2[w], v & 4 != 0);
-                            // DISPLACED is 0b011.
-                            p0[w] |= hit;
-                            p1[w] |= hit;
-                            p2[w] &= !hit;
-                        }
-                        k
-                    }
-                };
+                let k = same.unwrap_or_else(|| {
+                    let k = b.oldest();
+                    b.put(k, cells, n);
+                    // Pairs that pointed to the replaced set must test again.
+                    st.states.displace(pair_state::IN_SET + k as u32);
+                    k
+                });
                 st.blockers.touch(k);
                 pair_state::IN_SET + k as u32
             }
         };
-        for (plane, b) in st.states.iter_mut().zip(0..) {
-            if state >> b & 1 != 0 {
-                plane[w] |= bit;
-            } else {
-                plane[w] &= !bit;
-            }
-        }
+        st.states.set(pair, state);
         state
     }
 
@@ -664,14 +693,12 @@ impl<'a> CorridorEncoding<'a> {
     #[inline(always)]
     fn leg_is_clear(&mut self, s: usize, (a, va): (Point, f32), (b, vb): (Point, f32)) -> bool {
         let (i, j) = (bucket(va), bucket(vb));
-        let (w, bit) = pair_bit(i, j);
-        let [p0, p1, p2] = &self.stations[s].states;
-        // CLEAR (0b001) first, from the three words at once: most legs end here.
-        if p0[w] & !(p1[w] | p2[w]) & bit != 0 {
+        let pair = pair_bit(i, j);
+        let states = &self.stations[s].states;
+        if states.is_clear(pair) {
             return true;
         }
-        let on = |plane: &[u32; 2], shift: u32| u32::from(plane[w] & bit != 0) << shift;
-        let mut state = on(p0, 0) | on(p1, 1) | on(p2, 2);
+        let mut state = states.get(pair);
         if matches!(state, pair_state::UNTESTED | pair_state::DISPLACED) {
             state = self.test_pair(s, i, j);
         }
