@@ -117,7 +117,7 @@ mod tests {
     }
 
     #[test]
-    fn lesser_and_at_least_zero_match_std() {
+    fn lesser_greater_and_at_least_zero_match_std() {
         let values = [
             -3.0f32,
             -0.5,
@@ -131,6 +131,7 @@ mod tests {
         for a in values.into_iter().filter(|a| !a.is_nan()) {
             for b in values {
                 assert_eq!(lesser(a, b), a.min(b), "{a} {b}");
+                assert_eq!(greater(a, b), a.max(b), "{a} {b}");
             }
         }
         for x in values {

@@ -12,7 +12,8 @@
 //! - [`Random::normal`]: Marsaglia's polar method, two `unit` draws per attempt, attempts
 //!   repeat until `0 < s < 1` (about 1.27 attempts on average); the second normal of the pair is
 //!   discarded so that each call's draw count depends only on its own attempts;
-//! - [`Random::cauchy`]: `tan(pi (u - 1/2))` with `u` from `open_unit`;
+//! - [`Random::cauchy`]: `u / v` for a point `(u, v)` uniform in the unit disc, two `unit`
+//!   draws per attempt, attempts repeat until `u^2 + v^2 < 1` and `v != 0`;
 //! - [`Random::levy`]: Mantegna's algorithm, `beta = 1.5`: `u` then `v`, two standard normals
 //!   by the ziggurat (one word each in 98.8% of draws, see `ziggurat.rs`), `u` scaled by
 //!   `sigma`, `step = u / |v|^(1/beta)` (computed as `cbrt(v^2)`). Levy steps are the hottest
