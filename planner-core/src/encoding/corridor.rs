@@ -688,8 +688,9 @@ impl<'a> CorridorEncoding<'a> {
         clear_among(self.grid, a, b, centres, self.margin)
     }
 
-    /// Whether leg `s` from `a` to `b` (waypoints with their offsets) is clear: the cached
-    /// verdict of its interval pair when that proves it, else the exact check.
+    /// Whether leg `s` from `a` to `b` (waypoints with their offsets) is clear, by what its
+    /// interval pair's [`pair_state`] allows: clear outright, from the pair's set of blocked
+    /// cells, or by the exact walk (testing the pair first if needed).
     #[inline(always)]
     fn leg_is_clear(&mut self, s: usize, (a, va): (Point, f32), (b, vb): (Point, f32)) -> bool {
         let (i, j) = (bucket(va), bucket(vb));
