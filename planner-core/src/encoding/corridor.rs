@@ -41,11 +41,13 @@ pub struct Station {
     /// The blocked cells near the hulls of the leg's pairs, in up to [`SETS`] sets that
     /// pairs point to; see [`Blockers`].
     blockers: Blockers,
-    /// The waypoint of the candidate under evaluation, and the straight length of its leg
-    /// to the next waypoint: written by [`CorridorEncoding::straight`], read by the rest of
-    /// that bounded evaluation (placing each waypoint again per pass cost more than a
-    /// tenth of a plan on a Cortex-M4).
+    /// The waypoint of the candidate under evaluation, its offset in `[-1, 1]` (0 at the
+    /// fixed ends), and the straight length of its leg to the next waypoint: written by
+    /// [`CorridorEncoding::straight`], read by the leg checks of that evaluation (placing
+    /// each waypoint again per pass cost more than a tenth of a plan on a Cortex-M4, and
+    /// reading the offset from the decision vector a bounds check and an end test per leg).
     waypoint: Point,
+    offset: f32,
     straight: f32,
 }
 
@@ -60,6 +62,7 @@ impl Station {
         states: PairStates::EMPTY,
         blockers: Blockers::EMPTY,
         waypoint: Point::new(0.0, 0.0),
+        offset: 0.0,
         straight: 0.0,
     };
 
@@ -333,15 +336,16 @@ pub struct CorridorEncoding<'a> {
     slack: f32,
 }
 
-/// A set of legs, bit `s` for leg `s`. One machine word or two: a `u128` would take four
-/// registers per set on a Cortex-M4 and spill. Legs from 64 on are never in a set: they are
-/// checked in order like the others, and a repair there lifts the lower bound only when the
-/// exact pass reaches it (a weaker bound, the same costs).
-type LegSet = u64;
+/// A set of legs, bit `s` for leg `s`: one machine word (a `u64` took two registers per set
+/// and a carry per bit operation on a Cortex-M4, about 30 instructions per hot leg). Legs
+/// from 32 on are never in a set: they are checked in order like the others, and a repair
+/// there lifts the lower bound only when the exact pass reaches it (a weaker bound, the same
+/// costs).
+type LegSet = u32;
 
-/// The bit of leg `s` in a [`LegSet`] (0 from leg 64 on).
+/// The bit of leg `s` in a [`LegSet`] (0 from leg 32 on).
 fn leg_bit(s: usize) -> LegSet {
-    if s < 64 { 1 << s } else { 0 }
+    if s < 32 { 1 << s } else { 0 }
 }
 
 impl<'a> CorridorEncoding<'a> {
@@ -505,15 +509,13 @@ impl<'a> CorridorEncoding<'a> {
     }
 
     /// The offset in `[-1, 1]` of station `s` (0 at the fixed ends and for a non-finite
-    /// variable). `in_range`: `x` is known to lie in `[-1, 1]` (see
-    /// [`straight`](Self::straight)), so it needs no clamp.
+    /// variable).
     #[inline(always)]
-    fn offset(&self, s: usize, x: &[f32], in_range: bool) -> f32 {
+    fn offset(&self, s: usize, x: &[f32]) -> f32 {
         if s == 0 || s + 1 == self.stations.len() {
             return 0.0;
         }
-        let v = x.get(s - 1).copied().unwrap_or(0.0);
-        if in_range { v } else { offset_of(v) }
+        offset_of(x.get(s - 1).copied().unwrap_or(0.0))
     }
 
     /// The waypoint of station `s` at offset `v` (the station itself at the fixed ends).
@@ -528,24 +530,15 @@ impl<'a> CorridorEncoding<'a> {
 
     #[inline(always)]
     fn waypoint(&self, s: usize, x: &[f32]) -> Point {
-        self.at(s, self.offset(s, x, false))
+        self.at(s, self.offset(s, x))
     }
 
-    /// Waypoint `s` and its offset (`in_range` as for [`offset`](Self::offset)).
+    /// Places the waypoints of `x` in the stations (with their offsets and the straight
+    /// lengths of the legs) and returns the sum of the straight legs, in the cost's order. A
+    /// repaired leg is never shorter than the straight one (triangle inequality), so the sum
+    /// bounds the cost from below, once shrunk by [`slack`] for rounding.
     #[inline(always)]
-    fn place(&self, s: usize, x: &[f32], in_range: bool) -> (Point, f32) {
-        let v = self.offset(s, x, in_range);
-        (self.at(s, v), v)
-    }
-
-    /// The sum of the straight legs of `x`, in the cost's order, and whether every variable
-    /// was in `[-1, 1]`. A repaired leg is never shorter than the straight one (triangle
-    /// inequality), so the sum bounds the cost from below, once shrunk by [`slack`] for
-    /// rounding.
-    ///
-    /// Keeps each waypoint and straight leg length in its station for the later passes.
-    #[inline(always)]
-    fn straight(&mut self, x: &[f32]) -> (f32, bool) {
+    fn straight(&mut self, x: &[f32]) -> f32 {
         // The usual case walks the movable stations and the variables side by side, without
         // an index check or end test per leg: this is the hottest loop of a plan on a
         // Cortex-M4 (every bounded evaluation starts with it).
@@ -567,50 +560,48 @@ impl<'a> CorridorEncoding<'a> {
                 *leg = a.distance(b);
                 total += *leg;
                 st.waypoint = b;
+                st.offset = v;
                 leg = &mut st.straight;
                 a = b;
             }
             if widest <= ONE {
                 *leg = a.distance(last.point);
-                return (total + *leg, true);
+                return total + *leg;
             }
         }
         // A variable out of range, or fewer variables than movable stations (never from an
-        // optimizer): by index, with `waypoint`'s clamp and default offset. One loop over a
+        // optimizer): by index, with `offset_of`'s clamp and default offset. One loop over a
         // chain of the two cases, a fold or a closure instead cost 2-13% more instructions
         // per plan on the Cortex-M4.
         let mut total = 0.0;
-        let mut a = self.waypoint(0, x);
+        let mut a = self.stations[0].point;
         for s in 0..self.stations.len() - 1 {
-            let b = self.waypoint(s + 1, x);
+            let v = self.offset(s + 1, x);
+            let b = self.at(s + 1, v);
             let leg = a.distance(b);
             total += leg;
             self.stations[s + 1].waypoint = b;
+            self.stations[s + 1].offset = v;
             self.stations[s].straight = leg;
             a = b;
         }
-        (total, false)
+        total
     }
 
-    /// The ends of leg `s` as [`straight`](Self::straight) placed them, with their offsets.
+    /// Raises `sum` (the [`straight`](Self::straight) sum, or one raised before) by leg `s`,
+    /// now known to need a repair: its repaired length in place of its straight one. Returns
+    /// the raised sum shrunk by [`slack`]: a lower bound of the cost.
     #[inline(always)]
-    fn placed(&self, s: usize, x: &[f32], in_range: bool) -> ((Point, f32), (Point, f32)) {
-        (
-            (self.stations[s].waypoint, self.offset(s, x, in_range)),
-            (
-                self.stations[s + 1].waypoint,
-                self.offset(s + 1, x, in_range),
-            ),
-        )
-    }
-
-    /// Raises `sum` (the [`straight`](Self::straight) sum, or one raised before) by leg `s`
-    /// (`a -> b`), now known to need a repair: its repaired length in place of its straight
-    /// one. Returns the raised sum shrunk by [`slack`]: a lower bound of the cost.
-    #[inline(always)]
-    fn raise(&self, sum: &mut f32, s: usize, a: Point, b: Point) -> f32 {
-        *sum += self.repaired_leg(s, a, b) - self.stations[s].straight;
+    fn raise(&self, sum: &mut f32, s: usize) -> f32 {
+        *sum += self.repaired(s) - self.stations[s].straight;
         *sum * self.slack
+    }
+
+    /// The repaired length of leg `s` between the placed waypoints.
+    #[inline(always)]
+    fn repaired(&self, s: usize) -> f32 {
+        let (a, b) = (self.stations[s].waypoint, self.stations[s + 1].waypoint);
+        self.repaired_leg(s, a, b)
     }
 
     /// Tests interval pair `(i, j)` of leg `s` into the cache: its new [`pair_state`], with
@@ -688,26 +679,73 @@ impl<'a> CorridorEncoding<'a> {
         clear_among(self.grid, a, b, centres, self.margin)
     }
 
-    /// Whether leg `s` from `a` to `b` (waypoints with their offsets) is clear, by what its
-    /// interval pair's [`pair_state`] allows: clear outright, from the pair's set of blocked
-    /// cells, or by the exact walk (testing the pair first if needed).
+    /// Whether leg `s` between the placed waypoints is clear, by what its interval pair's
+    /// [`pair_state`] allows: clear outright (most legs, so this part is inlined), or
+    /// [`leg_is_clear_beyond`](Self::leg_is_clear_beyond).
     #[inline(always)]
-    fn leg_is_clear(&mut self, s: usize, (a, va): (Point, f32), (b, vb): (Point, f32)) -> bool {
-        let (i, j) = (bucket(va), bucket(vb));
-        let pair = pair_bit(i, j);
-        let states = &self.stations[s].states;
-        if states.is_clear(pair) {
+    fn leg_is_clear(&mut self, s: usize) -> bool {
+        let (from, to) = (&self.stations[s], &self.stations[s + 1]);
+        let (i, j) = (bucket(from.offset), bucket(to.offset));
+        if from.states.is_clear(pair_bit(i, j)) {
             return true;
         }
-        let mut state = states.get(pair);
+        self.leg_is_clear_beyond(s, i, j)
+    }
+
+    /// [`leg_is_clear`](Self::leg_is_clear) for a pair that is not known clear: from the
+    /// pair's set of blocked cells, or by the exact walk (testing the pair first if needed).
+    #[inline(always)]
+    fn leg_is_clear_beyond(&mut self, s: usize, i: usize, j: usize) -> bool {
+        let mut state = self.stations[s].states.get(pair_bit(i, j));
         if matches!(state, pair_state::UNTESTED | pair_state::DISPLACED) {
             state = self.test_pair(s, i, j);
         }
+        let (a, b) = (self.stations[s].waypoint, self.stations[s + 1].waypoint);
         match state {
             pair_state::CLEAR => true,
             pair_state::WALK => segment_is_clear(self.grid, a, b),
             k => self.clear_among_set(s, a, b, k - pair_state::IN_SET),
         }
+    }
+
+    /// The cost of the placed waypoints, legs `0..legs` in order, where the legs in `clear`
+    /// and `repaired` are already known. With `BOUNDED`, each newly repaired leg raises `sum`
+    /// (see [`raise`](Self::raise)) and the pass returns the lower bound as soon as it reaches
+    /// `bound`.
+    #[inline(always)]
+    fn exact<const BOUNDED: bool>(
+        &mut self,
+        known: (LegSet, LegSet),
+        sum: &mut f32,
+        bound: f32,
+    ) -> f32 {
+        let (clear, mut repaired) = known;
+        let mut total = 0.0;
+        // `leg_bit(s)`, shifted along (out of the set from leg 32 on).
+        let mut bit: LegSet = 1;
+        for s in 0..self.stations.len() - 1 {
+            let is_clear = if (repaired | clear) & bit != 0 {
+                clear & bit != 0
+            } else {
+                self.leg_is_clear(s)
+            };
+            if is_clear {
+                total += self.stations[s].straight;
+            } else {
+                total += self.repaired(s);
+                if BOUNDED && repaired & bit == 0 {
+                    repaired |= bit;
+                    self.hot |= bit;
+                    let bound_now = self.raise(sum, s);
+                    if bound_now >= bound {
+                        self.decisive = s;
+                        return bound_now;
+                    }
+                }
+            }
+            bit <<= 1;
+        }
+        total
     }
 }
 
@@ -721,21 +759,8 @@ impl Encoding for CorridorEncoding<'_> {
     }
 
     fn cost(&mut self, x: &[f32]) -> f32 {
-        // One test of all variables spares a clamp per waypoint (see `straight`); a missing
-        // variable is 0 either way.
-        let in_range = x.iter().all(|v| v.to_bits() & !SIGN <= ONE);
-        let mut total = 0.0;
-        let mut a = self.place(0, x, in_range);
-        for s in 0..self.stations.len() - 1 {
-            let b = self.place(s + 1, x, in_range);
-            total += if self.leg_is_clear(s, a, b) {
-                a.0.distance(b.0)
-            } else {
-                self.repaired_leg(s, a.0, b.0)
-            };
-            a = b;
-        }
-        total
+        let mut sum = self.straight(x);
+        self.exact::<false>((0, 0), &mut sum, f32::INFINITY)
     }
 
     fn cost_below(&mut self, x: &[f32], bound: f32) -> f32 {
@@ -743,7 +768,7 @@ impl Encoding for CorridorEncoding<'_> {
             return self.cost(x);
         }
         let legs = self.stations.len() - 1;
-        let (mut sum, in_range) = self.straight(x);
+        let mut sum = self.straight(x);
         if sum * self.slack >= bound {
             return sum * self.slack;
         }
@@ -752,25 +777,28 @@ impl Encoding for CorridorEncoding<'_> {
         // what makes a candidate worse than the bound.
         let mut repaired: LegSet = 0;
         let mut clear: LegSet = 0;
-        let first_leg = leg_bit(self.decisive) & self.hot;
-        let mut order = first_leg;
-        let mut hot = self.hot & !first_leg;
-        while order | hot != 0 {
-            let bits = if order != 0 { &mut order } else { &mut hot };
-            // The lowest bit taken as it is: a variable `u64` shift is a branch and several
-            // instructions on a 32-bit core.
-            let bit = *bits & bits.wrapping_neg();
-            *bits ^= bit;
+        let first = leg_bit(self.decisive) & self.hot;
+        let mut next = first;
+        let mut rest = self.hot & !first;
+        loop {
+            let bit = if next != 0 {
+                core::mem::take(&mut next)
+            } else if rest != 0 {
+                let bit = rest & rest.wrapping_neg();
+                rest ^= bit;
+                bit
+            } else {
+                break;
+            };
             let s = bit.trailing_zeros() as usize;
             if s >= legs {
                 continue;
             }
-            let (a, b) = self.placed(s, x, in_range);
-            if self.leg_is_clear(s, a, b) {
+            if self.leg_is_clear(s) {
                 clear |= bit;
             } else {
                 repaired |= bit;
-                let bound_now = self.raise(&mut sum, s, a.0, b.0);
+                let bound_now = self.raise(&mut sum, s);
                 if bound_now >= bound {
                     self.decisive = s;
                     return bound_now;
@@ -778,34 +806,7 @@ impl Encoding for CorridorEncoding<'_> {
             }
         }
         // The exact sum, in `cost`'s order; each newly repaired leg raises the bound again.
-        let mut total = 0.0;
-        // `leg_bit(s)`, shifted along (out of the set from leg 64 on).
-        let mut bit: LegSet = 1;
-        for s in 0..legs {
-            let is_clear = if (repaired | clear) & bit != 0 {
-                clear & bit != 0
-            } else {
-                let (a, b) = self.placed(s, x, in_range);
-                self.leg_is_clear(s, a, b)
-            };
-            if is_clear {
-                total += self.stations[s].straight;
-            } else {
-                let (a, b) = (self.stations[s].waypoint, self.stations[s + 1].waypoint);
-                total += self.repaired_leg(s, a, b);
-                if repaired & bit == 0 {
-                    repaired |= bit;
-                    self.hot |= bit;
-                    let bound_now = self.raise(&mut sum, s, a, b);
-                    if bound_now >= bound {
-                        self.decisive = s;
-                        return bound_now;
-                    }
-                }
-            }
-            bit <<= 1;
-        }
-        total
+        self.exact::<true>((clear, repaired), &mut sum, bound)
     }
 
     fn decode(&mut self, x: &[f32], out: &mut PathView) -> Result<(), PlanError> {
