@@ -27,34 +27,53 @@ pub(super) fn normal(rng: &mut Random) -> f32 {
         let i = (u & 127) as usize;
         let j = u >> 8;
         let negative = u & 128 != 0;
-        let x = j as f32 * W[i];
+        let (k, w) = LAYERS[i];
+        let x = j as f32 * w;
         let sign = |v: f32| if negative { -v } else { v };
-        if j < K[i] {
+        if j < k {
             return sign(x);
         }
-        if let Some(v) = slow(rng, i, x) {
+        let (next, v) = slow(rng.clone(), i, x);
+        *rng = next;
+        if let Some(v) = v {
             return sign(v);
         }
     }
 }
 
+/// [`K`] and [`W`] side by side: one table address and one index for both lookups of a
+/// draw (two addresses were rebuilt per draw in the Levy loop, short of registers).
+static LAYERS: [(u32, f32); 128] = {
+    let mut t = [(0, 0.0); 128];
+    let mut i = 0;
+    while i < 128 {
+        t[i] = (K[i], W[i]);
+        i += 1;
+    }
+    t
+};
+
 /// The draws outside the inner rectangles: the tail (layer 0) or a wedge; `None` rejects.
+///
+/// The generator goes in and out by value: were its address passed, a caller's local copy
+/// of it could not live in registers in the loops that draw (three loads and two stores
+/// per draw in the Levy steps on a Cortex-M4).
 #[cold]
 #[inline(never)]
-fn slow(rng: &mut Random, i: usize, x: f32) -> Option<f32> {
+fn slow(mut rng: Random, i: usize, x: f32) -> (Random, Option<f32>) {
     if i == 0 {
         // Marsaglia's tail: x = -ln(u1) / R, accepted when -2 ln(u2) > x^2.
         loop {
             let t = -libm::logf(rng.open_unit()) * (1.0 / R);
             let y = -libm::logf(rng.open_unit());
             if y + y > t * t {
-                return Some(R + t);
+                return (rng, Some(R + t));
             }
         }
     }
     let (f_out, f_in) = (F[i], F.get(i + 1).copied().unwrap_or(1.0));
     let y = f_out + rng.open_unit() * (f_in - f_out);
-    (y < libm::expf(-0.5 * x * x)).then_some(x)
+    (rng, (y < libm::expf(-0.5 * x * x)).then_some(x))
 }
 
 /// `x_i / 2^24`: layer `i` spans `[0, x_i]`; `x_0 = V / f(R)`, `x_1 = R`.
