@@ -212,12 +212,7 @@ impl<const N: usize, const D: usize> Hho<N, D> {
     }
 
     fn recompute_sum(&mut self) {
-        self.sum = [0.0; D];
-        for i in 0..self.swarm.n() {
-            for (s, v) in self.sum.iter_mut().zip(self.swarm.pop.position(i)) {
-                *s += v;
-            }
-        }
+        self.swarm.pop.sum_positions(&mut self.sum);
     }
 
     /// Evaluates `self.y` and moves hawk `i` there whatever its cost (exploration, besiege).

@@ -509,6 +509,22 @@ impl<const N: usize, const D: usize> Population<N, D> {
         self.dim
     }
 
+    /// The sum of the members' positions, coordinate by coordinate (0 beyond the dimension),
+    /// adding the members in order. One coordinate at a time, in a register: row by row,
+    /// each partial sum was loaded and stored back per member.
+    pub fn sum_positions(&self, sum: &mut [f32; D]) {
+        let rows = self.positions.get(..self.size).unwrap_or(&[]);
+        for (d, s) in sum.iter_mut().enumerate() {
+            let mut total = 0.0;
+            if d < self.dim {
+                for row in rows {
+                    total += row[d];
+                }
+            }
+            *s = total;
+        }
+    }
+
     /// Member `i` (empty if `i >= size`).
     pub fn position(&self, i: usize) -> &[f32] {
         match self.positions.get(i) {
