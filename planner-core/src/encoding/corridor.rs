@@ -30,10 +30,10 @@ pub struct Station {
     index: u32,
     /// The guide point.
     point: Point,
-    /// Unit normal of the guide at the station.
-    normal: (f32, f32),
-    /// Clear extents along `+normal` and `-normal`, indexed by the sign bit of an offset.
-    reach: [f32; 2],
+    /// The clear extents along the guide's unit normal at the station: `reach_+ * normal`
+    /// and `reach_- * normal`, indexed by the sign bit of an offset (the waypoint at offset
+    /// `v` is `point + v * side`).
+    side: [(f32, f32); 2],
     /// Guide length from this station to the next.
     arc_to_next: f32,
     /// The leg to the next station, cached per pair of waypoint intervals.
@@ -56,8 +56,7 @@ impl Station {
     pub const EMPTY: Station = Station {
         index: 0,
         point: Point::new(0.0, 0.0),
-        normal: (0.0, 0.0),
-        reach: [0.0; 2],
+        side: [(0.0, 0.0); 2],
         arc_to_next: 0.0,
         states: PairStates::EMPTY,
         blockers: Blockers::EMPTY,
@@ -71,12 +70,11 @@ impl Station {
     fn slide(&self, v: f32) -> Point {
         // The extent on the offset's side, picked by its sign bit: a float comparison is
         // three or four instructions on a Cortex-M4, and this runs for every waypoint of
-        // every evaluation. (-0.0 takes the negative extent, giving the same -0.0 offset.)
-        let t = v * self.reach[(v.to_bits() >> 31) as usize];
-        Point::new(
-            self.point.x + t * self.normal.0,
-            self.point.y + t * self.normal.1,
-        )
+        // every evaluation. (-0.0 takes the negative side, giving a -0.0 displacement.) The
+        // sides are scaled by their extents at build time: one multiplication and one load
+        // fewer per waypoint than the extent times the normal.
+        let (dx, dy) = self.side[(v.to_bits() >> 31) as usize];
+        Point::new(self.point.x + v * dx, self.point.y + v * dy)
     }
 }
 
@@ -478,8 +476,8 @@ impl<'a> CorridorEncoding<'a> {
                 }
                 ext
             };
-            stations[s].normal = normal;
-            stations[s].reach = [reach(1.0), reach(-1.0)];
+            let side = |ext: f32| (ext * normal.0, ext * normal.1);
+            stations[s].side = [side(reach(1.0)), side(reach(-1.0))];
         }
         Ok(CorridorEncoding {
             grid,
@@ -897,11 +895,7 @@ mod tests {
         assert!((enc.cost(&zero[..enc.dim()]) - length(&guide)).abs() < 1e-4);
         for st in enc.stations {
             for sign in [-1.0, 1.0] {
-                let ext = if sign > 0.0 { st.reach[0] } else { st.reach[1] };
-                let p = Point::new(
-                    st.point.x + sign * ext * st.normal.0,
-                    st.point.y + sign * ext * st.normal.1,
-                );
+                let p = st.slide(sign);
                 assert!(segment_is_clear(g.view(), st.point, p));
             }
         }
