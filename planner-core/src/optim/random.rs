@@ -190,8 +190,17 @@ impl Random {
         let u = super::ziggurat::normal(self) * LEVY_SIGMA_1_5;
         let v = super::ziggurat::normal(self);
         // |v|^(1/1.5) = cbrt(v^2) (libm's powf costs several times a cube root). A zero `v`
-        // (probability ~0) would give an infinite step; keep it finite anyway.
-        u / cbrt_positive(v * v)
+        // (probability ~0) would give an infinite step; keep it finite anyway. `v` is finite
+        // and at most a few tens, so only the lower end of `cbrt_positive`'s range check
+        // applies (one comparison fewer per Levy step).
+        let square = v * v;
+        #[allow(clippy::neg_cmp_op_on_partial_ord)]
+        let square = if !(square >= f32::MIN_POSITIVE) {
+            f32::MIN_POSITIVE
+        } else {
+            square
+        };
+        u / cbrt_normal(square)
     }
 }
 
@@ -215,6 +224,13 @@ pub fn cbrt_positive(x: f32) -> f32 {
     } else {
         x
     };
+    cbrt_normal(x)
+}
+
+/// [`cbrt_positive`] of a finite `x >= f32::MIN_POSITIVE` (the range that the estimate and
+/// the Newton steps handle).
+#[inline(always)]
+fn cbrt_normal(x: f32) -> f32 {
     // Dividing the biased exponent by three: bits / 3 + 2/3 of the bias (709,958,130 is
     // musl's constant for the same estimate).
     let y = f32::from_bits(x.to_bits() / 3 + 709_958_130);
