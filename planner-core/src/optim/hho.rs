@@ -251,9 +251,10 @@ impl<const N: usize, const D: usize> Hho<N, D> {
         }
     }
 
-    /// Evaluates hawk `i` where [`besiege`](Self::besiege) moved it, as
+    /// Evaluates hawk `i` where [`besiege`](Self::besiege) or [`explore`](Self::explore)
+    /// moved it, as
     /// [`move_hawk_unconditionally`](Self::move_hawk_unconditionally) evaluates `Y`.
-    fn evaluate_besieger<O: Objective + ?Sized>(&mut self, objective: &mut O, i: usize) {
+    fn evaluate_moved<O: Objective + ?Sized>(&mut self, objective: &mut O, i: usize) {
         let sw = &mut self.swarm;
         let pure = objective.pure();
         let rabbit = sw.tracker.best_cost;
@@ -360,7 +361,9 @@ impl<const N: usize, const D: usize> Hho<N, D> {
         }
     }
 
-    /// `|E| >= 1`: perch on a random hawk or relative to the rabbit and the mean.
+    /// `|E| >= 1`: perch on a random hawk or relative to the rabbit and the mean. Moves
+    /// hawk `i` in place, like [`besiege`](Self::besiege) (each coordinate depends only on
+    /// the same coordinate of the hawks, the rabbit and the sum, read before it is written).
     fn explore(&mut self, i: usize) {
         let n = self.swarm.n();
         let inv_n = 1.0 / n as f32;
@@ -370,33 +373,53 @@ impl<const N: usize, const D: usize> Hho<N, D> {
         if q < 0.5 {
             let r1 = sw.rng.unit();
             let r2 = sw.rng.unit();
-            for (((y, xr), x), (l, u)) in self
-                .y
-                .iter_mut()
-                .zip(sw.pop.position(k))
-                .zip(sw.pop.position(i))
-                .zip(sw.bounds.pairs())
-            {
-                *y = clamp_into(xr - r1 * libm::fabsf(xr - 2.0 * r2 * x), l, u);
+            let perch = |xr: f32, x: f32| xr - r1 * libm::fabsf(xr - 2.0 * r2 * x);
+            let step = |x: &mut f32, s: &mut f32, xr: f32, (l, u): (f32, f32)| {
+                let v = clamp_into(perch(xr, *x), l, u);
+                *s += v - *x;
+                *x = v;
+            };
+            if let Some((other, hawk)) = sw.pop.read_write(k, i) {
+                for (((x, s), xr), b) in hawk
+                    .iter_mut()
+                    .zip(self.sum.iter_mut())
+                    .zip(other)
+                    .zip(sw.bounds.pairs())
+                {
+                    step(x, s, *xr, b);
+                }
+            } else {
+                // The hawk perches relative to itself.
+                for ((x, s), b) in sw
+                    .pop
+                    .position_mut(i)
+                    .iter_mut()
+                    .zip(self.sum.iter_mut())
+                    .zip(sw.bounds.pairs())
+                {
+                    step(x, s, *x, b);
+                }
             }
         } else {
             let r3 = sw.rng.unit();
             let r4 = sw.rng.unit();
             let scalar_mean = self.scalar_mean();
             let sw = &mut self.swarm;
-            let rabbit = sw.tracker.best();
-            for (((y, rb), s), (l, u)) in self
-                .y
+            for (((x, rb), s), (l, u)) in sw
+                .pop
+                .position_mut(i)
                 .iter_mut()
-                .zip(rabbit)
-                .zip(&self.sum)
+                .zip(sw.tracker.best())
+                .zip(self.sum.iter_mut())
                 .zip(sw.bounds.pairs())
             {
                 let m = match scalar_mean {
                     Some(m) => m,
-                    None => s * inv_n,
+                    None => *s * inv_n,
                 };
-                *y = clamp_into((rb - m) - r3 * (l + r4 * (u - l)), l, u);
+                let v = clamp_into((rb - m) - r3 * (l + r4 * (u - l)), l, u);
+                *s += v - *x;
+                *x = v;
             }
         }
     }
@@ -549,10 +572,11 @@ impl<const N: usize, const D: usize> Optimizer for Hho<N, D> {
             if abs_e >= 1.0 {
                 if self.params.mutation == Mutation::ReplacesExploration {
                     self.mutate_rabbit();
+                    self.move_hawk_unconditionally(objective, i);
                 } else {
                     self.explore(i);
+                    self.evaluate_moved(objective, i);
                 }
-                self.move_hawk_unconditionally(objective, i);
                 continue;
             }
             let r = self.swarm.rng.unit();
@@ -560,13 +584,13 @@ impl<const N: usize, const D: usize> Optimizer for Hho<N, D> {
                 (true, false) => {
                     // Hard besiege.
                     self.besiege(i, |rb, x| rb - e * libm::fabsf(rb - x));
-                    self.evaluate_besieger(objective, i);
+                    self.evaluate_moved(objective, i);
                 }
                 (true, true) => {
                     // Soft besiege.
                     let j = 2.0 * (1.0 - self.swarm.rng.unit());
                     self.besiege(i, |rb, x| (rb - x) - e * libm::fabsf(j * rb - x));
-                    self.evaluate_besieger(objective, i);
+                    self.evaluate_moved(objective, i);
                 }
                 (false, true) => self.dive(objective, i, e, false),
                 (false, false) => self.dive(objective, i, e, true),

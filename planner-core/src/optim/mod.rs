@@ -525,6 +525,24 @@ impl<const N: usize, const D: usize> Population<N, D> {
         }
     }
 
+    /// Member `k` to read and member `i` to write, or `None` unless both exist and differ.
+    pub fn read_write(&mut self, k: usize, i: usize) -> Option<(&[f32], &mut [f32])> {
+        if k >= self.size || i >= self.size {
+            return None;
+        }
+        let dim = self.dim;
+        let (read, write) = if k < i {
+            let (before, from) = self.positions.split_at_mut_checked(i)?;
+            (before.get(k)?, from.first_mut()?)
+        } else if i < k {
+            let (before, from) = self.positions.split_at_mut_checked(k)?;
+            (&*from.first_mut()?, before.get_mut(i)?)
+        } else {
+            return None;
+        };
+        Some((read.get(..dim)?, write.get_mut(..dim)?))
+    }
+
     /// Member `i` (empty if `i >= size`).
     pub fn position(&self, i: usize) -> &[f32] {
         match self.positions.get(i) {
