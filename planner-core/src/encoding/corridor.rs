@@ -325,11 +325,9 @@ pub struct CorridorEncoding<'a> {
     stations: &'a mut [Station],
     /// Clearance that a cached interval pair must keep ([`hull_margin`]).
     margin: f32,
-    /// Legs that needed a repair in an earlier exact pass of `cost_below` (bit `s` for leg
-    /// `s < 64`): checked first, since the swarm keeps probing the same corners.
-    hot: LegSet,
-    /// The leg whose repair last proved a bounded cost too high: checked first next time.
-    decisive: usize,
+    /// Legs that needed a repair in an earlier exact pass of `cost_below`: checked first,
+    /// since the swarm keeps probing the same corners.
+    hot: HotLegs,
     /// [`slack`] for the legs here.
     slack: f32,
 }
@@ -344,6 +342,56 @@ type LegSet = u32;
 /// The bit of leg `s` in a [`LegSet`] (0 from leg 32 on).
 fn leg_bit(s: usize) -> LegSet {
     if s < 32 { 1 << s } else { 0 }
+}
+
+/// The legs (below 32) that needed a repair in an earlier exact pass, in the order a bounded
+/// evaluation checks them: the one whose repair last proved a cost too high first, the others
+/// in the order they last did (move to front). With the last decisive leg first and the
+/// others by index, a TCLHHO plan rejected at the first check 55% of the candidates that
+/// some hot leg rejects, but took 5.5 checks for the others.
+#[derive(Clone, Copy, Debug)]
+struct HotLegs {
+    order: [u8; 32],
+    len: usize,
+    set: LegSet,
+}
+
+impl HotLegs {
+    const EMPTY: HotLegs = HotLegs {
+        order: [0; 32],
+        len: 0,
+        set: 0,
+    };
+
+    /// Adds leg `s` last (if it is below 32 and not in yet).
+    fn insert(&mut self, s: usize) {
+        let bit = leg_bit(s);
+        if self.set & bit == 0
+            && let Some(slot) = self.order.get_mut(self.len)
+        {
+            self.set |= bit;
+            *slot = s as u8;
+            self.len += 1;
+        }
+    }
+
+    /// Moves the leg at position `k` of the order to the front.
+    #[inline(always)]
+    fn promote(&mut self, k: usize) {
+        if k > 0
+            && let Some(front) = self.order.get_mut(..=k)
+        {
+            front.rotate_right(1);
+        }
+    }
+
+    /// Moves leg `s` to the front, if it is in.
+    fn promote_leg(&mut self, s: usize) {
+        let mut order = self.order.iter().take(self.len);
+        if let Some(k) = order.position(|&h| usize::from(h) == s) {
+            self.promote(k);
+        }
+    }
 }
 
 impl<'a> CorridorEncoding<'a> {
@@ -484,8 +532,7 @@ impl<'a> CorridorEncoding<'a> {
             guide,
             stations: &mut stations[..k + 2],
             margin: hull_margin(grid),
-            hot: 0,
-            decisive: 0,
+            hot: HotLegs::EMPTY,
             slack: slack(k + 1),
         })
     }
@@ -735,10 +782,10 @@ impl<'a> CorridorEncoding<'a> {
                 total += self.repaired(s);
                 if BOUNDED && repaired & bit == 0 {
                     repaired |= bit;
-                    self.hot |= bit;
+                    self.hot.insert(s);
                     let bound_now = self.raise(sum, s);
                     if bound_now >= bound {
-                        self.decisive = s;
+                        self.hot.promote_leg(s);
                         return bound_now;
                     }
                 }
@@ -772,25 +819,17 @@ impl Encoding for CorridorEncoding<'_> {
         if sum * self.slack >= bound {
             return sum * self.slack;
         }
-        // Legs that needed a repair in earlier evaluations are checked first, the one that
-        // settled the previous bounded evaluation before the others: one of them is usually
-        // what makes a candidate worse than the bound.
+        // Legs that needed a repair in earlier evaluations are checked first (see
+        // `HotLegs`): one of them is usually what makes a candidate worse than the bound.
         let mut repaired: LegSet = 0;
         let mut clear: LegSet = 0;
-        let first = leg_bit(self.decisive) & self.hot;
-        let mut next = first;
-        let mut rest = self.hot & !first;
-        loop {
-            let bit = if next != 0 {
-                core::mem::take(&mut next)
-            } else if rest != 0 {
-                let bit = rest & rest.wrapping_neg();
-                rest ^= bit;
-                bit
-            } else {
+        let mut k = 0;
+        while k < self.hot.len {
+            let Some(&s) = self.hot.order.get(k) else {
                 break;
             };
-            let s = bit.trailing_zeros() as usize;
+            let (s, bit) = (usize::from(s), leg_bit(usize::from(s)));
+            k += 1;
             if s >= legs {
                 continue;
             }
@@ -800,7 +839,7 @@ impl Encoding for CorridorEncoding<'_> {
                 repaired |= bit;
                 let bound_now = self.raise(&mut sum, s);
                 if bound_now >= bound {
-                    self.decisive = s;
+                    self.hot.promote(k - 1);
                     return bound_now;
                 }
             }
