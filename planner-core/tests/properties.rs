@@ -1004,3 +1004,41 @@ proptest! {
         }
     }
 }
+
+proptest! {
+    #![proptest_config(Config { cases: 2000, ..Config::default() })]
+
+    /// The quick tests of `segment_is_clear_among` near their band: on maps of 40 and 1024
+    /// cells a side, segments pass a corner or along an edge of a blocked cell near the far
+    /// edge of the map (where coordinates round most) at distances from -3e-3 to 3e-3 cells,
+    /// which covers the band (5.5e-4 and 1/512 cells) and TOUCH_EPS (1e-4). The verdict
+    /// from that cell alone must be the walk's.
+    #[test]
+    fn blocked_cell_judgement_agrees_with_the_walk_near_the_band(
+        large in any::<bool>(),
+        corner in (0usize..2, 0usize..2),
+        angle in prop_oneof![(0u32..8).prop_map(|k| k as f64 * 45.0), 0.0..360.0f64],
+        distance in -3_000i32..=3_000,
+        ends in (0.0..2.5f64, 0.0..2.5f64),
+    ) {
+        let side = if large { 1024 } else { 40 };
+        let mut grid: Box<Grid<{ words_for(1024, 1024) }>> =
+            Box::new(Grid::new(side, side).unwrap());
+        let cell = Cell::new(side as u16 - 5, side as u16 - 5);
+        grid.set_blocked(usize::from(cell.x), usize::from(cell.y), true).unwrap();
+        let g = grid.view();
+        let sign = |c: usize| if c == 0 { -0.5 } else { 0.5 };
+        let k = (f64::from(cell.x) + sign(corner.0), f64::from(cell.y) + sign(corner.1));
+        let (dx, dy) = (angle.to_radians().cos(), angle.to_radians().sin());
+        // The line through the corner moved by `distance` (in 1e-6 cells) along its normal.
+        let d = f64::from(distance) * 1e-6;
+        let (px, py) = (k.0 - dy * d, k.1 + dx * d);
+        let a = Point::new((px - dx * ends.0) as f32, (py - dy * ends.0) as f32);
+        let b = Point::new((px + dx * ends.1) as f32, (py + dy * ends.1) as f32);
+        prop_assert_eq!(
+            segment_is_clear_among(g, a, b, &[cell], hull_margin(g)),
+            segment_is_clear(g, a, b),
+            "{:?} -> {:?} on {}", a, b, side
+        );
+    }
+}

@@ -19,7 +19,9 @@
 
 use super::Encoding;
 use crate::error::PlanError;
-use crate::geometry::{Cell, Point, clear_among, hull_blockers, hull_margin, segment_is_clear};
+use crate::geometry::{
+    Cell, Point, clear_among, hull_blockers, hull_margin, quick_band, segment_is_clear,
+};
 use crate::grid::GridRef;
 use crate::path::PathView;
 
@@ -325,6 +327,8 @@ pub struct CorridorEncoding<'a> {
     stations: &'a mut [Station],
     /// Clearance that a cached interval pair must keep ([`hull_margin`]).
     margin: f32,
+    /// The band of the judgements from blocked cells ([`quick_band`]).
+    band: f32,
     /// Legs that needed a repair in an earlier exact pass of `cost_below`: checked first,
     /// since the swarm keeps probing the same corners.
     hot: HotLegs,
@@ -532,6 +536,7 @@ impl<'a> CorridorEncoding<'a> {
             guide,
             stations: &mut stations[..k + 2],
             margin: hull_margin(grid),
+            band: quick_band(grid, hull_margin(grid)),
             hot: HotLegs::EMPTY,
             slack: slack(k + 1),
         })
@@ -723,7 +728,7 @@ impl<'a> CorridorEncoding<'a> {
         let p = st.point;
         let centres = st.blockers.cells[k].iter().take(st.blockers.len(k));
         let centres = centres.map(|o| Point::new(p.x + f32::from(o[0]), p.y + f32::from(o[1])));
-        clear_among(self.grid, a, b, centres, self.margin)
+        clear_among(self.grid, a, b, centres, self.band)
     }
 
     /// Whether leg `s` between the placed waypoints is clear, by what its interval pair's
