@@ -188,19 +188,15 @@ impl Random {
     /// standard errors 0.04 and 0.06).
     pub fn levy(&mut self) -> f32 {
         let u = super::ziggurat::normal(self) * LEVY_SIGMA_1_5;
-        let v = super::ziggurat::normal(self);
+        // Only `v^2` is used, so `v`'s sign is not applied.
+        let v = super::ziggurat::magnitude(self);
         // |v|^(1/1.5) = cbrt(v^2) (libm's powf costs several times a cube root). A zero `v`
-        // (probability ~0) would give an infinite step; keep it finite anyway. `v` is finite
-        // and at most a few tens, so only the lower end of `cbrt_positive`'s range check
-        // applies (one comparison fewer per Levy step).
-        let square = v * v;
-        #[allow(clippy::neg_cmp_op_on_partial_ord)]
-        let square = if !(square >= f32::MIN_POSITIVE) {
-            f32::MIN_POSITIVE
-        } else {
-            square
-        };
-        u / cbrt_normal(square)
+        // (probability ~0) would give an infinite step; keep it finite anyway: `cbrt_positive`
+        // takes at least `f32::MIN_POSITIVE`. A nonzero `v` is at least `W[127]` (1.6e-8),
+        // so `v^2 + MIN_POSITIVE` rounds to `v^2` (2^-126 is below half an ulp of anything
+        // above 2^-100) and to `MIN_POSITIVE` for a zero `v`: the same value as that range
+        // check, in one addition instead of comparisons.
+        u / cbrt_normal(v * v + f32::MIN_POSITIVE)
     }
 }
 

@@ -22,6 +22,20 @@ const R: f32 = 3.442_619_8;
 /// A standard normal draw.
 #[inline]
 pub(super) fn normal(rng: &mut Random) -> f32 {
+    let (negative, x) = draw(rng);
+    if negative { -x } else { x }
+}
+
+/// The magnitude of a standard normal draw: [`normal`] without its sign (the same words are
+/// drawn, bit 7 of the accepted one is ignored), for a caller that only squares it.
+#[inline]
+pub(super) fn magnitude(rng: &mut Random) -> f32 {
+    draw(rng).1
+}
+
+/// One draw: its sign (bit 7 of the accepted word) and its magnitude.
+#[inline(always)]
+fn draw(rng: &mut Random) -> (bool, f32) {
     loop {
         let u = rng.next_u32();
         let i = (u & 127) as usize;
@@ -29,14 +43,13 @@ pub(super) fn normal(rng: &mut Random) -> f32 {
         let negative = u & 128 != 0;
         let (k, w) = LAYERS[i];
         let x = j as f32 * w;
-        let sign = |v: f32| if negative { -v } else { v };
         if j < k {
-            return sign(x);
+            return (negative, x);
         }
         let (next, v) = slow(rng.clone(), i, x);
         *rng = next;
         if let Some(v) = v {
-            return sign(v);
+            return (negative, v);
         }
     }
 }
