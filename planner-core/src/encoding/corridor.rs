@@ -370,7 +370,8 @@ impl HotLegs {
     /// Adds leg `s` last (if it is below 32 and not in yet).
     fn insert(&mut self, s: usize) {
         let bit = leg_bit(s);
-        if self.set & bit == 0
+        if bit != 0
+            && self.set & bit == 0
             && let Some(slot) = self.order.get_mut(self.len)
         {
             self.set |= bit;
@@ -943,6 +944,59 @@ mod tests {
                 assert!(segment_is_clear(g.view(), st.point, p));
             }
         }
+    }
+
+    #[test]
+    fn out_of_range_variables_cost_as_clamped() {
+        let g = G::parse_rows(b"..........\n..@@@@@...\n..@.......\n..........\n").unwrap();
+        let guide = guide_for(&g, Cell::new(0, 0), Cell::new(9, 2));
+        let mut buf = [Station::default(); 16];
+        let mut enc = CorridorEncoding::build(g.view(), &guide, 1.5, 3.0, 14, &mut buf).unwrap();
+        let n = enc.dim();
+        assert!(n >= 3);
+        let odd = [1.5, f32::NAN, -f32::INFINITY, -0.0, 1.0000001, -1.0, 0.25];
+        let x: heapless::Vec<f32, 16> = (0..n).map(|k| odd[k % odd.len()]).collect();
+        let clamped: heapless::Vec<f32, 16> = x.iter().map(|&v| offset_of(v)).collect();
+        let want = enc.cost(&clamped);
+        assert_eq!(enc.cost(&x).to_bits(), want.to_bits());
+        // The waypoints were placed at the clamped offsets, also when the only variable out
+        // of range is the next float above 1.
+        let mut barely = clamped.clone();
+        barely[1] = 1.0000001;
+        for x in [&x, &barely] {
+            enc.cost(x);
+            for (st, &v) in enc.stations[1..=n].iter().zip(x.iter()) {
+                assert_eq!(st.offset.to_bits(), offset_of(v).to_bits(), "{v}");
+            }
+        }
+        // Bounded: the exact cost below a higher bound, a lower bound at or above a lower one.
+        assert_eq!(enc.cost_below(&x, want + 1.0).to_bits(), want.to_bits());
+        assert!(enc.cost_below(&x, want - 1.0) >= want - 1.0);
+        // Fewer variables than stations: the missing ones are 0.
+        let short = &clamped[..n - 1];
+        let mut padded = clamped.clone();
+        padded[n - 1] = 0.0;
+        assert_eq!(enc.cost(short).to_bits(), enc.cost(&padded).to_bits());
+    }
+
+    #[test]
+    fn hot_legs_keep_the_last_decisive_first() {
+        let mut hot = HotLegs::EMPTY;
+        for s in [3, 7, 3, 40, 1] {
+            hot.insert(s);
+        }
+        // Leg 40 is beyond a leg set; 3 is in once.
+        assert_eq!(&hot.order[..hot.len], &[3, 7, 1]);
+        hot.promote(2);
+        assert_eq!(&hot.order[..hot.len], &[1, 3, 7]);
+        hot.promote_leg(7);
+        hot.promote_leg(9);
+        assert_eq!(&hot.order[..hot.len], &[7, 1, 3]);
+        assert_eq!(hot.set, (1 << 1) | (1 << 3) | (1 << 7));
+        for s in 0..32 {
+            hot.insert(s);
+        }
+        assert_eq!(hot.len, 32);
     }
 
     #[test]

@@ -1117,4 +1117,28 @@ mod tests {
         assert_eq!((p.best_index(), p.worst_index()), (1, 0));
         assert!(p.position(4).is_empty());
     }
+
+    #[test]
+    fn population_rows_and_sums() {
+        let mut p = Population::<4, 3>::new(3, 2);
+        for i in 0..3 {
+            for (d, v) in p.position_mut(i).iter_mut().enumerate() {
+                *v = (10 * i + d) as f32;
+            }
+        }
+        // Sums in member order, 0 beyond the dimension.
+        let mut sum = [7.0; 3];
+        p.sum_positions(&mut sum);
+        assert_eq!(sum, [30.0, 33.0, 0.0]);
+        // One member to read, another to write, whichever comes first.
+        for (k, i) in [(0, 2), (2, 0)] {
+            let (read, write) = p.read_write(k, i).unwrap();
+            assert_eq!((read.len(), read[0]), (2, (10 * k) as f32));
+            write[1] = -1.0;
+            assert_eq!(p.position(i)[1], -1.0);
+        }
+        assert!(p.read_write(1, 1).is_none());
+        assert!(p.read_write(3, 0).is_none());
+        assert!(p.read_write(0, 3).is_none());
+    }
 }
