@@ -704,6 +704,9 @@ impl<const D: usize> Tracker<D> {
     /// [`evaluate`](Self::evaluate) for a caller that only needs the cost when it is below
     /// `bound` ([`Objective::cost_below`]): the result is exact below `bound` and below the
     /// best cost (so the best point is tracked exactly), else some value at or above both.
+    // Inlined into each optimizer's call sites: one call per evaluation fewer (0.7% of a
+    // TCLHHO plan on a Cortex-M4, for 0.8 KiB of flash).
+    #[inline(always)]
     pub fn evaluate_below<O: Objective + ?Sized>(
         &mut self,
         objective: &mut O,
