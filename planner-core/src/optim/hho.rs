@@ -254,6 +254,7 @@ impl<const N: usize, const D: usize> Hho<N, D> {
     /// Evaluates hawk `i` where [`besiege`](Self::besiege) or [`explore`](Self::explore)
     /// moved it, as
     /// [`move_hawk_unconditionally`](Self::move_hawk_unconditionally) evaluates `Y`.
+    #[inline(always)]
     fn evaluate_moved<O: Objective + ?Sized>(&mut self, objective: &mut O, i: usize) {
         let sw = &mut self.swarm;
         let pure = objective.pure();
