@@ -215,7 +215,8 @@ impl<const N: usize, const D: usize> Hho<N, D> {
         self.swarm.pop.sum_positions(&mut self.sum);
     }
 
-    /// Evaluates `self.y` and moves hawk `i` there whatever its cost (exploration, besiege).
+    /// Evaluates `self.y` and moves hawk `i` there whatever its cost (the mutated rabbit
+    /// that replaces exploration in [`Mutation::ReplacesExploration`]).
     fn move_hawk_unconditionally<O: Objective + ?Sized>(&mut self, objective: &mut O, i: usize) {
         if objective.pure() {
             let rabbit = self.swarm.tracker.best_cost;
@@ -485,6 +486,9 @@ impl<const N: usize, const D: usize> Hho<N, D> {
             let fy = self.evaluate_y_below(objective, known);
             if fy < known {
                 self.move_hawk_to_y(i, fy);
+                if let Some(b) = self.bounded.get_mut(i) {
+                    *b = false;
+                }
                 return;
             }
             let current = self.exact_cost(objective, i);
