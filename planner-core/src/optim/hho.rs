@@ -328,6 +328,7 @@ impl<const N: usize, const D: usize> Hho<N, D> {
     /// Evaluates `Y` where only a cost below `bound` (or the rabbit's) matters. Every loop
     /// that writes a candidate clamps it into the box as it goes (one pass instead of a second
     /// one over the candidate), so it is evaluated as it is.
+    #[inline(always)]
     fn evaluate_y_below<O: Objective + ?Sized>(&mut self, objective: &mut O, bound: f32) -> f32 {
         let dim = self.swarm.dim();
         let y = self.y.get(..dim).unwrap_or(&[]);
@@ -345,6 +346,7 @@ impl<const N: usize, const D: usize> Hho<N, D> {
     }
 
     /// [`evaluate_y_below`](Self::evaluate_y_below) for `Z`.
+    #[inline(always)]
     fn evaluate_z_below<O: Objective + ?Sized>(&mut self, objective: &mut O, bound: f32) -> f32 {
         let dim = self.swarm.dim();
         let z = self.z.get(..dim).unwrap_or(&[]);
