@@ -232,11 +232,12 @@ impl<const N: usize, const D: usize> Hho<N, D> {
         }
     }
 
-    /// Moves hawk `i` in place to `new(rabbit, x)` per coordinate, clamped, keeping the
-    /// running sum: a besieging hawk moves whatever the cost (a copy through `Y` cost more
-    /// than the move itself on a Cortex-M4).
+    /// Moves hawk `i` in place, coordinate `d` to `new(rabbit_d, x_d, sum_d, bounds_d)`
+    /// clamped, keeping the running sum: a besieging or exploring hawk moves whatever the
+    /// cost (a copy through `Y` cost more than the move itself on a Cortex-M4). Each
+    /// coordinate reads only the same coordinate, before it is written.
     #[inline(always)]
-    fn besiege(&mut self, i: usize, new: impl Fn(f32, f32) -> f32) {
+    fn move_in_place(&mut self, i: usize, new: impl Fn(f32, f32, f32, (f32, f32)) -> f32) {
         let sw = &mut self.swarm;
         for (((x, rb), s), (l, u)) in sw
             .pop
@@ -246,13 +247,13 @@ impl<const N: usize, const D: usize> Hho<N, D> {
             .zip(self.sum.iter_mut())
             .zip(sw.bounds.pairs())
         {
-            let v = clamp_into(new(*rb, *x), l, u);
+            let v = clamp_into(new(*rb, *x, *s, (l, u)), l, u);
             *s += v - *x;
             *x = v;
         }
     }
 
-    /// Evaluates hawk `i` where [`besiege`](Self::besiege) or [`explore`](Self::explore)
+    /// Evaluates hawk `i` where [`move_in_place`](Self::move_in_place) or [`explore`](Self::explore)
     /// moved it, as
     /// [`move_hawk_unconditionally`](Self::move_hawk_unconditionally) evaluates `Y`.
     #[inline(always)]
@@ -365,9 +366,9 @@ impl<const N: usize, const D: usize> Hho<N, D> {
         }
     }
 
-    /// `|E| >= 1`: perch on a random hawk or relative to the rabbit and the mean. Moves
-    /// hawk `i` in place, like [`besiege`](Self::besiege) (each coordinate depends only on
-    /// the same coordinate of the hawks, the rabbit and the sum, read before it is written).
+    /// `|E| >= 1`: perch on a random hawk or relative to the rabbit and the mean, in place
+    /// (see [`move_in_place`](Self::move_in_place); the perch on another hawk reads the same
+    /// coordinate of that hawk).
     fn explore(&mut self, i: usize) {
         let n = self.swarm.n();
         let inv_n = 1.0 / n as f32;
@@ -408,23 +409,13 @@ impl<const N: usize, const D: usize> Hho<N, D> {
             let r3 = sw.rng.unit();
             let r4 = sw.rng.unit();
             let scalar_mean = self.scalar_mean();
-            let sw = &mut self.swarm;
-            for (((x, rb), s), (l, u)) in sw
-                .pop
-                .position_mut(i)
-                .iter_mut()
-                .zip(sw.tracker.best())
-                .zip(self.sum.iter_mut())
-                .zip(sw.bounds.pairs())
-            {
+            self.move_in_place(i, |rb, _, s, (l, u)| {
                 let m = match scalar_mean {
                     Some(m) => m,
-                    None => *s * inv_n,
+                    None => s * inv_n,
                 };
-                let v = clamp_into((rb - m) - r3 * (l + r4 * (u - l)), l, u);
-                *s += v - *x;
-                *x = v;
-            }
+                (rb - m) - r3 * (l + r4 * (u - l))
+            });
         }
     }
 
@@ -590,13 +581,13 @@ impl<const N: usize, const D: usize> Optimizer for Hho<N, D> {
             match (r >= 0.5, abs_e >= 0.5) {
                 (true, false) => {
                     // Hard besiege.
-                    self.besiege(i, |rb, x| rb - e * libm::fabsf(rb - x));
+                    self.move_in_place(i, |rb, x, _, _| rb - e * libm::fabsf(rb - x));
                     self.evaluate_moved(objective, i);
                 }
                 (true, true) => {
                     // Soft besiege.
                     let j = 2.0 * (1.0 - self.swarm.rng.unit());
-                    self.besiege(i, |rb, x| (rb - x) - e * libm::fabsf(j * rb - x));
+                    self.move_in_place(i, |rb, x, _, _| (rb - x) - e * libm::fabsf(j * rb - x));
                     self.evaluate_moved(objective, i);
                 }
                 (false, true) => self.dive(objective, i, e, false),
