@@ -156,8 +156,8 @@ pub struct Hho<const N: usize, const D: usize> {
     /// Whether hawk `i`'s cached cost is only a lower bound. With a
     /// [`pure`](Objective::pure) objective a hawk that moves unconditionally is evaluated
     /// only against the rabbit (its cost matters again only if it dives later, and is
-    /// recomputed then); otherwise every cost is exact. (False for exact, so that an
-    /// unconfigured instance is all zero bytes, see
+    /// recomputed then unless `Y` beats the bound); otherwise every cost is exact. (False
+    /// for exact, so that an unconfigured instance is all zero bytes, see
     /// [`Swarm::unconfigured`](super::Swarm::unconfigured).)
     bounded: [bool; N],
 }
