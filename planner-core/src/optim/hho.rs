@@ -215,21 +215,18 @@ impl<const N: usize, const D: usize> Hho<N, D> {
         self.swarm.pop.sum_positions(&mut self.sum);
     }
 
-    /// Evaluates `self.y` and moves hawk `i` there whatever its cost (the mutated rabbit
-    /// that replaces exploration in [`Mutation::ReplacesExploration`]).
+    /// Moves hawk `i` to `self.y` whatever its cost and evaluates it there (the mutated
+    /// rabbit that replaces exploration in [`Mutation::ReplacesExploration`]).
     fn move_hawk_unconditionally<O: Objective + ?Sized>(&mut self, objective: &mut O, i: usize) {
-        if objective.pure() {
-            let rabbit = self.swarm.tracker.best_cost;
-            let cost = self.evaluate_y_below(objective, f32::NEG_INFINITY);
-            self.move_hawk_to_y(i, cost);
-            // Exact when it beat the rabbit (or there was none); else possibly a lower bound.
-            if let Some(b) = self.bounded.get_mut(i) {
-                *b = !(rabbit == f32::INFINITY || cost < rabbit);
-            }
-        } else {
-            let cost = self.evaluate_y(objective);
-            self.move_hawk_to_y(i, cost);
-        }
+        // The cost is set by `evaluate_moved`.
+        move_hawk(
+            &mut self.sum,
+            &mut self.swarm.pop,
+            i,
+            &self.y,
+            f32::INFINITY,
+        );
+        self.evaluate_moved(objective, i);
     }
 
     /// Moves hawk `i` in place, coordinate `d` to `new(rabbit_d, x_d, sum_d, bounds_d)`
@@ -253,9 +250,9 @@ impl<const N: usize, const D: usize> Hho<N, D> {
         }
     }
 
-    /// Evaluates hawk `i` where [`move_in_place`](Self::move_in_place) or [`explore`](Self::explore)
-    /// moved it, as
-    /// [`move_hawk_unconditionally`](Self::move_hawk_unconditionally) evaluates `Y`.
+    /// Evaluates hawk `i` after a move whatever the cost. With a pure objective, only
+    /// against the rabbit: the cost is exact when it beats the rabbit (or there was none),
+    /// else possibly a lower bound (see `bounded`).
     #[inline(always)]
     fn evaluate_moved<O: Objective + ?Sized>(&mut self, objective: &mut O, i: usize) {
         let sw = &mut self.swarm;
@@ -282,21 +279,30 @@ impl<const N: usize, const D: usize> Hho<N, D> {
             let raw = objective.cost(self.swarm.pop.position(i));
             let cost = if raw.is_nan() { f32::INFINITY } else { raw };
             self.swarm.pop.set_cost(i, cost);
-            if let Some(b) = self.bounded.get_mut(i) {
-                *b = false;
-            }
+            self.mark_exact(i);
         }
         self.swarm.pop.cost(i)
     }
 
-    /// Moves hawk `i` to `self.y` with cost `cost`, keeping the running sum.
+    /// A dive moves hawk `i` to `self.y`, whose exact cost is `cost`, keeping the running sum.
     fn move_hawk_to_y(&mut self, i: usize, cost: f32) {
         move_hawk(&mut self.sum, &mut self.swarm.pop, i, &self.y, cost);
+        self.mark_exact(i);
     }
 
-    /// Moves hawk `i` to `self.z` (`Y` is rewritten before its next use, so no swap).
+    /// [`move_hawk_to_y`](Self::move_hawk_to_y) for `self.z` (`Y` is rewritten before its
+    /// next use, so no swap).
     fn move_hawk_to_z(&mut self, i: usize, cost: f32) {
         move_hawk(&mut self.sum, &mut self.swarm.pop, i, &self.z, cost);
+        self.mark_exact(i);
+    }
+
+    /// Hawk `i`'s cached cost is exact (a dive that moved it below its known lower bound
+    /// had left it marked, and its next dive recomputed it).
+    fn mark_exact(&mut self, i: usize) {
+        if let Some(b) = self.bounded.get_mut(i) {
+            *b = false;
+        }
     }
 
     /// Writes the mutated rabbit into `self.y` (draws `P`, then Cauchy or `K1, K2`).
@@ -320,10 +326,6 @@ impl<const N: usize, const D: usize> Hho<N, D> {
                 *y = clamp_into(v, l, u);
             }
         }
-    }
-
-    fn evaluate_y<O: Objective + ?Sized>(&mut self, objective: &mut O) -> f32 {
-        self.evaluate_y_below(objective, f32::INFINITY)
     }
 
     /// Evaluates `Y` where only a cost below `bound` (or the rabbit's) matters. Every loop
@@ -479,9 +481,6 @@ impl<const N: usize, const D: usize> Hho<N, D> {
             let fy = self.evaluate_y_below(objective, known);
             if fy < known {
                 self.move_hawk_to_y(i, fy);
-                if let Some(b) = self.bounded.get_mut(i) {
-                    *b = false;
-                }
                 return;
             }
             let current = self.exact_cost(objective, i);
