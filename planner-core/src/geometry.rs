@@ -614,11 +614,10 @@ pub(crate) fn clear_among(
     a: Point,
     b: Point,
     centres: impl Iterator<Item = Point> + Clone,
-    band: f32,
+    m: f32,
 ) -> bool {
     // The quick tests, on `a -> b` as given, with the band `m` of [`quick_band`]. They hold
     // for the exact rule between cell centres too (it blocks on touching).
-    let m = band;
     let (ex, ey) = (b.x - a.x, b.y - a.y);
     let reach = libm::fabsf(ex) + libm::fabsf(ey);
     let (xl, xh) = ordered(a.x, b.x);

@@ -533,12 +533,13 @@ impl<'a> CorridorEncoding<'a> {
             let side = |ext: f32| (ext * normal.0, ext * normal.1);
             stations[s].side = [side(reach(1.0)), side(reach(-1.0))];
         }
+        let margin = hull_margin(grid);
         Ok(CorridorEncoding {
             grid,
             guide,
             stations: &mut stations[..k + 2],
-            margin: hull_margin(grid),
-            band: quick_band(grid, hull_margin(grid)),
+            margin,
+            band: quick_band(grid, margin),
             hot: HotLegs::EMPTY,
             slack: slack(k + 1),
         })
