@@ -5,7 +5,7 @@ use planner_core::geometry::Cell;
 use planner_core::grid::{Grid, words_for};
 use planner_core::optim::any::{AlgorithmKind, AnyOptimizer};
 use planner_core::path::{Path, validate};
-use planner_core::planner::{PlanParams, Workspace, plan};
+use planner_core::planner::{GuideKind, PlanParams, Workspace, plan};
 use planner_core::search::astar::{AStarNode, OpenSlot, open_capacity};
 use planner_core::search::{SearchNode, astar, theta};
 use std::time::Instant;
@@ -59,9 +59,11 @@ fn main() {
             corridor_radius: radius,
             corridor_spacing: spacing,
             seed: n as u64,
+            guide: GuideKind::AStar,
             ..PlanParams::new(algo)
         };
         let mut ws = Workspace {
+            anyangle: None,
             nodes: &mut astar_nodes,
             open: &mut open,
             guide: &mut *guide,

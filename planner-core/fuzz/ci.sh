@@ -4,7 +4,7 @@
 # (-timeout) or leak, and when the nightly toolchain or cargo-fuzz cannot be had.
 #
 # Fuzz crates (each its own workspace, excluded from the main one) and their targets:
-#   planner-core/fuzz: map_parser plan_any optimizer_any search_inflate dwa_step
+#   planner-core/fuzz: map_parser plan_any optimizer_any search_inflate dwa_step anyangle
 #   planner-ipc/fuzz:  request_bytes (the service's request handling below the transport)
 #   host-sim/fuzz:     ros_map (the ROS map_server YAML + PGM/PNG loader)
 set -euo pipefail
@@ -19,6 +19,7 @@ TARGETS=(
     planner-core/fuzz:optimizer_any
     planner-core/fuzz:search_inflate
     planner-core/fuzz:dwa_step
+    planner-core/fuzz:anyangle
     planner-ipc/fuzz:request_bytes
     host-sim/fuzz:ros_map
 )

@@ -8,7 +8,8 @@
 //! - [`grid`]: the bit-packed occupancy grid, Moving AI `.map` parsing, inflation;
 //! - [`geometry`]: points, cells and the one collision rule every planner and check shares;
 //! - [`path`]: fixed-capacity paths and their metrics;
-//! - [`search`]: exact reference planners (A*, Theta*) and connectivity labelling;
+//! - [`search`]: exact reference planners (A*, Theta*, the exact any-angle planner
+//!   [`search::anyangle`]) and connectivity labelling;
 //! - [`optim`]: the swarm optimizers of the papers (HHO, TCLHHO, GWO, IGWO, SSA, ...).
 //! - [`dwa`]: the Dynamic Window Approach local planner (seed 004).
 #![no_std]

@@ -31,8 +31,9 @@ use planner_core::optim::any::AnyOptimizer;
 use planner_core::path::Path;
 use planner_core::planner::aco::{self, AcoParams, AcoWorkspace};
 use planner_core::planner::{
-    self, EncodingKind, InitKind, PlanParams, PlanReport, PlannerKind, Workspace,
+    self, AnyAngleWorkspace, EncodingKind, InitKind, PlanParams, PlanReport, PlannerKind, Workspace,
 };
+use planner_core::search::anyangle::{self, Link, Mesh, Node, Rect, Roots, Scratch};
 use planner_core::search::astar::{AStarNode, OpenSlot};
 use planner_core::search::{SearchNode, astar, connectivity, theta};
 use proptest::prelude::*;
@@ -256,11 +257,31 @@ fn run(
             };
             aco::plan(grid, start, goal, aco_params, &mut ws, out, &mut []).map(Some)
         }
+        PlannerKind::AnyAngle => {
+            let (mut rects, mut links) = (vec![Rect::EMPTY; CELLS], vec![Link::EMPTY; 2 * CELLS]);
+            let mesh = Mesh::build(grid, &mut rects, &mut links)?;
+            let (mut roots, mut search) = (vec![Roots::EMPTY; CELLS], vec![Node::EMPTY; 4 * CELLS]);
+            let scratch = Scratch {
+                roots: &mut roots,
+                open: &mut search,
+            };
+            anyangle::plan(grid, &mesh, start, goal, scratch, out).map(|_| None)
+        }
         PlannerKind::Swarm(_) => {
             let mut guide: Path<{ CELLS + 8 }> = Path::new();
             let mut visited = [0u32; CELLS / 32 + 1];
             let mut stations = [Station::EMPTY; D];
+            let (mut rects, mut links) = (vec![Rect::EMPTY; CELLS], vec![Link::EMPTY; 2 * CELLS]);
+            let mesh = Mesh::build(grid, &mut rects, &mut links)?;
+            let (mut roots, mut search) = (vec![Roots::EMPTY; CELLS], vec![Node::EMPTY; 4 * CELLS]);
             let mut ws = Workspace {
+                anyangle: Some(AnyAngleWorkspace {
+                    mesh,
+                    scratch: Scratch {
+                        roots: &mut roots,
+                        open: &mut search,
+                    },
+                }),
                 nodes: &mut nodes,
                 open: &mut open,
                 guide: &mut guide,

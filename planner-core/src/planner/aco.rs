@@ -239,6 +239,7 @@ pub fn plan(
         dimension: 0,
         stop,
         history_len: written,
+        guide: None,
     })
 }
 

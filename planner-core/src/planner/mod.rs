@@ -9,19 +9,25 @@
 //!
 //! ```
 //! use planner_core::{grid::{words_for, Grid}, geometry::Cell, path::Path};
-//! use planner_core::search::astar::{open_capacity, AStarNode, OpenSlot};
-//! use planner_core::planner::{plan, PlanParams, Workspace};
+//! use planner_core::search::anyangle::{Link, Mesh, Node, Rect, Roots, Scratch};
+//! use planner_core::planner::{plan, AnyAngleWorkspace, PlanParams, Workspace};
 //! use planner_core::encoding::corridor::Station;
 //! use planner_core::optim::any::{AlgorithmKind, AnyOptimizer};
 //!
 //! let grid: Grid<{ words_for(12, 6) }> = Grid::parse_rows(
 //!     b"............\n....@@@@....\n....@@@@....\n............\n..@@@@@@@@..\n............\n")?;
-//! let mut nodes = [AStarNode::EMPTY; 72];
-//! let mut open = [OpenSlot::EMPTY; open_capacity(72)];
+//! // The map's mesh (once per map) and a query's scratch, for the any-angle guide route.
+//! let (mut rects, mut links) = ([Rect::EMPTY; 16], [Link::EMPTY; 32]);
+//! let mesh = Mesh::build(grid.view(), &mut rects, &mut links)?;
+//! let (mut roots, mut search) = ([Roots::EMPTY; 16], [Node::EMPTY; 64]);
 //! let mut guide: Path<128> = Path::new();
 //! let mut stations = [Station::EMPTY; 16];
-//! // The corridor encoding needs no `visited` bitset (only the walk encoding does).
-//! let mut ws = Workspace { nodes: &mut nodes, open: &mut open, guide: &mut guide, visited: &mut [], stations: &mut stations };
+//! // The any-angle guide needs no A* nodes, and the corridor encoding no `visited` bitset
+//! // (only the walk encoding does).
+//! let mut ws = Workspace {
+//!     anyangle: Some(AnyAngleWorkspace { mesh, scratch: Scratch { roots: &mut roots, open: &mut search } }),
+//!     nodes: &mut [], open: &mut [], guide: &mut guide, visited: &mut [], stations: &mut stations,
+//! };
 //! // Any `PlanOptimizer`: `AnyOptimizer` serves every algorithm; firmware keeps a `Hho` or a
 //! // `Gwo` in a `static` instead (see `PlanOptimizer`).
 //! let mut optimizer = AnyOptimizer::<30, 16>::unconfigured();
@@ -33,6 +39,7 @@
 //! ```
 
 pub mod aco;
+mod guide;
 #[cfg(feature = "alloc")]
 pub mod owned;
 
@@ -41,7 +48,7 @@ use crate::encoding::column::ColumnEncoding;
 use crate::encoding::corridor::{CorridorEncoding, Station};
 use crate::encoding::walk::{CornerRule, WalkEncoding, validate_walk};
 use crate::error::PlanError;
-use crate::geometry::{Cell, Point, segment_is_clear};
+use crate::geometry::Cell;
 use crate::grid::GridRef;
 use crate::optim::any::{AlgorithmKind, AnyOptimizer};
 use crate::optim::gwo::{Gwo, GwoParams};
@@ -49,6 +56,7 @@ use crate::optim::hho::{Hho, HhoParams};
 use crate::optim::random::Random;
 use crate::optim::{Bounds, Objective, OptimError, Optimizer, Settings};
 use crate::path::{self, PathView};
+use crate::search::anyangle::{self, Mesh, Scratch};
 use crate::search::astar::{self, AStarNode, OpenSlot};
 use crate::search::check_endpoints;
 
@@ -64,11 +72,13 @@ pub enum PlannerKind {
     Aco,
     /// A swarm optimizer over an encoding ([`plan`]).
     Swarm(AlgorithmKind),
+    /// The exact any-angle shortest path (`anyangle`, [`crate::search::anyangle`]).
+    AnyAngle,
 }
 
 impl PlannerKind {
     /// Every planner, in a fixed order (also their wire codes' order).
-    pub const ALL: [PlannerKind; 12] = [
+    pub const ALL: [PlannerKind; 13] = [
         PlannerKind::AStar,
         PlannerKind::Theta,
         PlannerKind::Aco,
@@ -81,6 +91,7 @@ impl PlannerKind {
         PlannerKind::Swarm(AlgorithmKind::Ga),
         PlannerKind::Swarm(AlgorithmKind::Ssa),
         PlannerKind::Swarm(AlgorithmKind::SsaGwo),
+        PlannerKind::AnyAngle,
     ];
 
     /// The command-line name (`astar`, `theta`, `aco`, `tclhho`, ...).
@@ -90,12 +101,16 @@ impl PlannerKind {
             PlannerKind::Theta => "theta",
             PlannerKind::Aco => "aco",
             PlannerKind::Swarm(a) => a.name(),
+            PlannerKind::AnyAngle => "anyangle",
         }
     }
 
     /// Whether the planner uses random numbers (the seed matters).
     pub fn is_stochastic(self) -> bool {
-        !matches!(self, PlannerKind::AStar | PlannerKind::Theta)
+        !matches!(
+            self,
+            PlannerKind::AStar | PlannerKind::Theta | PlannerKind::AnyAngle
+        )
     }
 }
 
@@ -141,24 +156,22 @@ impl EncodingKind {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum GuideKind {
-    /// The octile A* route. Many routes tie under octile costs, and the one A* keeps is often
-    /// not in the class of the shortest any-angle path.
+    /// The shortest any-angle path ([`crate::search::anyangle`]), so that the plan
+    /// starts in the class of the shortest path. Needs [`Workspace::anyangle`].
     #[default]
+    AnyAngle,
+    /// The octile A* route. Many routes tie under octile costs, and the one A* keeps is often
+    /// not in the class of the shortest any-angle path. Needs [`Workspace::nodes`] and
+    /// [`Workspace::open`].
     AStar,
-    /// A route the caller has written into [`Workspace::guide`] before calling [`plan`],
-    /// normally the shortest any-angle path of the visibility graph
-    /// (`search::visibility::VisibilityGraph::route`, feature `alloc`;
-    /// `planner::owned::HostPlanner` does it). It is checked (from `start` to `goal`, every
-    /// segment clear) and resampled; the A* route is used instead when it fails the check.
-    Visibility,
 }
 
 impl GuideKind {
-    /// `astar` or `visibility`.
+    /// `anyangle` or `astar`.
     pub const fn name(self) -> &'static str {
         match self {
+            GuideKind::AnyAngle => "anyangle",
             GuideKind::AStar => "astar",
-            GuideKind::Visibility => "visibility",
         }
     }
 }
@@ -201,6 +214,13 @@ pub struct PlanParams {
     pub corner_rule: CornerRule,
     /// Corridor encoding: the guide route.
     pub guide: GuideKind,
+    /// Corridor encoding: how far (cells, per axis, at most) the any-angle guide's corners
+    /// move off the obstacle corners they wrap before stations are placed on it. 0 keeps
+    /// the shortest route itself, so that the plan ends at the shortest length; half a cell
+    /// (to the free cell diagonal to each corner) makes evaluations cheaper, since fewer
+    /// candidate legs graze an obstacle, and ends slightly longer (firmware: TCLHHO on the
+    /// 40x40 warehouse takes 42M instead of 97M instructions and ends 0.06% longer).
+    pub guide_relax: f32,
     /// Corridor encoding: guide length between stations (cells).
     pub corridor_spacing: f32,
     /// Corridor encoding: lateral reach of a waypoint (cells).
@@ -212,6 +232,17 @@ pub struct PlanParams {
 }
 
 impl PlanParams {
+    /// The host's defaults: the papers' population and horizon, stopping after
+    /// [`HOST_STAGNATION`] iterations without improvement (on the generated 512 x 512
+    /// warehouses of `host-sim bench scale` TCLHHO then takes a sixth of the time, to the
+    /// same length). The firmware scenario and the papers' tables run every iteration.
+    pub const fn host(algorithm: AlgorithmKind) -> Self {
+        PlanParams {
+            stagnation: Some(HOST_STAGNATION),
+            ..PlanParams::new(algorithm)
+        }
+    }
+
     /// The papers' settings (population 30, 500 iterations) on the general encoding.
     pub const fn new(algorithm: AlgorithmKind) -> Self {
         PlanParams {
@@ -224,7 +255,8 @@ impl PlanParams {
             init: InitKind::Optimizer,
             prune: true,
             corner_rule: CornerRule::Strict,
-            guide: GuideKind::AStar,
+            guide: GuideKind::AnyAngle,
+            guide_relax: 0.0,
             corridor_spacing: 8.0,
             corridor_radius: 5.0,
             walk_steps: 0,
@@ -232,6 +264,10 @@ impl PlanParams {
         }
     }
 }
+
+/// The stagnation stop of the host's defaults ([`PlanParams::host`]): 50 iterations without
+/// a relative improvement of [`STAGNATION_TOL`].
+pub const HOST_STAGNATION: u32 = 50;
 
 /// Why the optimizer stopped.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -284,11 +320,21 @@ pub struct PlanReport {
     pub stop: PlanStop,
     /// Entries written to the history buffer.
     pub history_len: usize,
+    /// The corridor encoding's guide route: the any-angle route, or the A* route when the
+    /// any-angle search ran past its bound ([`ANYANGLE_GUIDE_CELLS_PER_NODE`]) or A* was
+    /// asked for. `None` for the other encodings.
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub guide: Option<GuideKind>,
 }
 
 /// Caller-owned scratch of a plan; no allocation happens inside [`plan`].
 pub struct Workspace<'a> {
-    /// One A* node per map cell (guide route, reachability).
+    /// The map's mesh and a query's scratch for the any-angle guide
+    /// ([`GuideKind::AnyAngle`]; `None` with that guide is
+    /// [`PlanError::InvalidParameters`]).
+    pub anyangle: Option<AnyAngleWorkspace<'a>>,
+    /// One A* node per map cell, for the A* guide ([`GuideKind::AStar`]; other guides may
+    /// pass an empty slice).
     pub nodes: &'a mut [AStarNode],
     /// The A* open list: [`astar::open_capacity`] slots never overflow; fewer are the
     /// caller's choice ([`PlanError::CapacityExceeded`] when a search outgrows them).
@@ -302,6 +348,15 @@ pub struct Workspace<'a> {
     /// The stations of the corridor encoding: `D` of them use every dimension of a plan
     /// with capacity `D` (fewer cap the number of decision variables at `len - 2`).
     pub stations: &'a mut [Station],
+}
+
+/// What the any-angle guide needs: the map's mesh (built once per map) and a query's
+/// scratch.
+pub struct AnyAngleWorkspace<'a> {
+    /// The mesh of the grid [`plan`] is given.
+    pub mesh: Mesh<'a>,
+    /// The search's scratch.
+    pub scratch: Scratch<'a>,
 }
 
 /// The optimizer storage [`plan`] runs: it configures the algorithm in place, so firmware can
@@ -364,6 +419,17 @@ impl<const N: usize, const D: usize> PlanOptimizer<N, D> for Gwo<N, D> {
     }
 }
 
+/// The any-angle guide's search may expand one node per this many cells of the map (at
+/// least [`ANYANGLE_GUIDE_MIN_NODES`]): an expansion costs about as much as four of A*'s, so
+/// the bound keeps the guide within about A*'s time on large maps; past it the A* route is
+/// the guide.
+pub const ANYANGLE_GUIDE_CELLS_PER_NODE: usize = 4;
+
+/// The any-angle guide's expansion budget on small maps: cluttered warehouses of a few
+/// hundred cells a side need tens of thousands of expansions, and the A* route it would fall
+/// back to is up to 2% longer.
+pub const ANYANGLE_GUIDE_MIN_NODES: usize = 1 << 16;
+
 /// Relative improvement below which an iteration counts as stagnant.
 pub const STAGNATION_TOL: f32 = 1e-4;
 
@@ -407,23 +473,40 @@ pub fn plan<const N: usize, const D: usize, O: PlanOptimizer<N, D>>(
     if params.population > N {
         return Err(PlanError::CapacityExceeded);
     }
-    // A caller's route settles reachability by itself; otherwise the exact reference route
-    // doubles as the reachability test: A* exhausts the start's component before it reports
-    // NoValidPath.
-    let given = params.encoding == EncodingKind::Corridor
-        && params.guide == GuideKind::Visibility
-        && path::validate(grid, ws.guide, start, goal).is_ok()
-        // Resampled through `out`, which is free until the result is decoded.
-        && {
-            out.clear();
-            ws.guide.iter().all(|p| out.push(*p).is_ok())
-        };
-    if given {
-        resample(grid, out, ws.guide);
-    } else {
-        astar::plan(grid, start, goal, ws.nodes, ws.open, ws.guide)?;
-    }
-    match params.encoding {
+    // The guide route doubles as the exact reachability test: either search exhausts the
+    // start's component before it reports NoValidPath.
+    let guide_used = match params.guide {
+        GuideKind::AnyAngle => {
+            let aa = ws.anyangle.as_mut().ok_or(PlanError::InvalidParameters)?;
+            let scratch = Scratch {
+                roots: &mut *aa.scratch.roots,
+                open: &mut *aa.scratch.open,
+            };
+            // Found into `out` (free until the result is decoded), moved off the corners
+            // it wraps, then resampled. Bounded to about A*'s work: on a dense lattice of
+            // racks the exact search costs more than the route is worth, and the A* route
+            // serves if the workspace has its state.
+            let budget =
+                (grid.cells() / ANYANGLE_GUIDE_CELLS_PER_NODE).max(ANYANGLE_GUIDE_MIN_NODES) as u32;
+            match anyangle::plan_within(grid, &aa.mesh, start, goal, scratch, out, budget) {
+                Ok(_) => {
+                    guide::relax(grid, out, params.guide_relax);
+                    guide::resample(grid, out, ws.guide);
+                    GuideKind::AnyAngle
+                }
+                Err(PlanError::BudgetExhausted) if ws.nodes.len() >= grid.cells() => {
+                    astar::plan(grid, start, goal, ws.nodes, ws.open, ws.guide)?;
+                    GuideKind::AStar
+                }
+                Err(e) => return Err(e),
+            }
+        }
+        GuideKind::AStar => {
+            astar::plan(grid, start, goal, ws.nodes, ws.open, ws.guide)?;
+            GuideKind::AStar
+        }
+    };
+    let mut report = match params.encoding {
         EncodingKind::Corridor => {
             if ws.guide.len() <= 2 {
                 return trivial(grid, ws.guide, out);
@@ -485,7 +568,11 @@ pub fn plan<const N: usize, const D: usize, O: PlanOptimizer<N, D>>(
                 interrupt,
             )
         }
+    }?;
+    if params.encoding == EncodingKind::Corridor {
+        report.guide = Some(guide_used);
     }
+    Ok(report)
 }
 
 fn check_params(p: &PlanParams) -> Result<(), PlanError> {
@@ -494,6 +581,7 @@ fn check_params(p: &PlanParams) -> Result<(), PlanError> {
         || p.iterations == 0
         || p.stagnation == Some(0)
         || !finite_pos(p.corridor_spacing)
+        || !(p.guide_relax.is_finite() && (0.0..=0.5).contains(&p.guide_relax))
         || !finite_pos(p.corridor_radius)
         || !(p.walk_beta.is_finite() && p.walk_beta >= 0.0)
     {
@@ -503,48 +591,6 @@ fn check_params(p: &PlanParams) -> Result<(), PlanError> {
         return Err(PlanError::InvalidParameters);
     }
     Ok(())
-}
-
-/// Writes `route` into `guide` with extra points along its segments, about one per cell of
-/// length (fewer if `guide` is short of room), so that corridor stations can sit anywhere on
-/// it. A segment keeps its extra points only if every piece is clear under the `f32` rule (the
-/// corridor checks pieces with it); otherwise it stays whole, which is clear by the exact rule.
-fn resample(grid: GridRef<'_>, route: &PathView, guide: &mut PathView) {
-    guide.clear();
-    let total = path::length(route);
-    let room = guide.capacity().saturating_sub(route.len());
-    let step = if room == 0 {
-        f32::INFINITY
-    } else {
-        (total / room as f32).max(1.0)
-    };
-    let Some(&first) = route.first() else {
-        return;
-    };
-    let _ = guide.push(first);
-    for pair in route.windows(2) {
-        let (a, b) = (pair[0], pair[1]);
-        let pieces = if step.is_finite() {
-            (libm::floorf(a.distance(b) / step) as usize).max(1)
-        } else {
-            1
-        };
-        let at = |k: usize| match k {
-            0 => a,
-            k if k == pieces => b,
-            k => {
-                let t = k as f32 / pieces as f32;
-                Point::new(a.x + t * (b.x - a.x), a.y + t * (b.y - a.y))
-            }
-        };
-        let clear = (0..pieces).all(|k| segment_is_clear(grid, at(k), at(k + 1)));
-        if clear && guide.len() + pieces <= guide.capacity() {
-            for k in 1..pieces {
-                let _ = guide.push(at(k));
-            }
-        }
-        let _ = guide.push(b);
-    }
 }
 
 /// The guide itself (start equals goal, or goal adjacent): nothing to optimise.
@@ -570,6 +616,7 @@ fn trivial(
         dimension: 0,
         stop: PlanStop::Trivial,
         history_len: 0,
+        guide: None,
     })
 }
 
@@ -662,6 +709,7 @@ fn optimise<const N: usize, const D: usize, E: Encoding, O: PlanOptimizer<N, D>>
         dimension: dim,
         stop,
         history_len: written,
+        guide: None,
     })
 }
 

@@ -12,15 +12,15 @@ use alloc::vec;
 use alloc::vec::Vec;
 
 use super::aco::{self, AcoParams, AcoWorkspace};
-use super::{EncodingKind, GuideKind, PlanParams, PlanReport, PlannerKind, Workspace, plan};
+use super::{AnyAngleWorkspace, PlanParams, PlanReport, PlannerKind, Workspace, plan};
 use crate::encoding::corridor::Station;
 use crate::error::PlanError;
 use crate::geometry::Cell;
 use crate::grid::GridRef;
 use crate::optim::any::AnyOptimizer;
 use crate::path::{self, Path, PathView};
+use crate::search::anyangle::{self, MeshBuf, Node, Roots, Scratch};
 use crate::search::astar::{AStarNode, OpenSlot, open_capacity};
-use crate::search::visibility::VisibilityGraph;
 use crate::search::{SearchNode, astar, connectivity, theta};
 
 /// Population capacity of host plans.
@@ -59,11 +59,19 @@ pub struct HostPlanner {
     best: Vec<u32>,
     stations: Box<[Station; HOST_DIMENSION]>,
     optimizer: Box<AnyOptimizer<HOST_POPULATION, HOST_DIMENSION>>,
-    /// The visibility graph of the prepared map, built on the first plan that asks for
-    /// [`GuideKind::Visibility`] (O(corners^2) segment tests: tens of ms on a 160 x 80
-    /// warehouse, a few hundred on 340 x 164).
-    visibility: Option<VisibilityGraph>,
+    /// The prepared map's mesh for the any-angle planner and guide (built by `prepare`).
+    mesh: MeshBuf,
+    /// Any-angle query scratch: one slot per rectangle, and the open list (grown when a
+    /// search outgrows it).
+    roots: Vec<Roots>,
+    search_open: Vec<Node>,
 }
+
+/// First size of the any-angle open list (2.1 MB); a search that outgrows it is run again
+/// with twice the room, up to [`SEARCH_OPEN_MAX`].
+const SEARCH_OPEN: usize = 1 << 16;
+/// The largest any-angle open list a host grows (134 MB).
+const SEARCH_OPEN_MAX: usize = 1 << 22;
 
 impl Default for HostPlanner {
     fn default() -> Self {
@@ -88,11 +96,14 @@ impl HostPlanner {
             best: Vec::new(),
             stations: Box::new([Station::EMPTY; HOST_DIMENSION]),
             optimizer: Box::new(AnyOptimizer::unconfigured()),
-            visibility: None,
+            mesh: MeshBuf::default(),
+            roots: Vec::new(),
+            search_open: vec![Node::EMPTY; SEARCH_OPEN],
         }
     }
 
-    /// Sizes the buffers for `grid` and labels its components (O(cells)).
+    /// Sizes the buffers for `grid`, labels its components and builds its any-angle mesh
+    /// (O(cells), the one-time cost of a map).
     pub fn prepare(&mut self, grid: GridRef<'_>) -> Result<(), PlanError> {
         let cells = grid.cells();
         if self.nodes.len() < cells {
@@ -108,21 +119,86 @@ impl HostPlanner {
             self.delta.clear();
         }
         self.cells = cells;
-        self.visibility = None;
         connectivity::label(grid, &mut self.labels)?;
+        self.mesh = MeshBuf::build(grid)?;
+        self.roots = vec![Roots::EMPTY; self.mesh.mesh().rects()];
         Ok(())
     }
 
-    /// The visibility graph of the prepared map (`grid` must be the one passed to
-    /// [`prepare`](Self::prepare)), built on first use and kept until the next `prepare`.
-    pub fn visibility_graph(&mut self, grid: GridRef<'_>) -> &VisibilityGraph {
-        self.visibility
-            .get_or_insert_with(|| VisibilityGraph::new(grid))
+    /// Heap bytes of the prepared map's any-angle mesh.
+    pub fn mesh_bytes(&self) -> usize {
+        self.mesh.heap_bytes()
+    }
+
+    /// The exact any-angle path on the prepared map into `out`, with an open list grown
+    /// until the search fits without dropping a node that could matter.
+    fn anyangle(
+        &mut self,
+        grid: GridRef<'_>,
+        start: Cell,
+        goal: Cell,
+        out: &mut PathView,
+    ) -> Result<anyangle::AnyAngleStats, PlanError> {
+        loop {
+            let scratch = Scratch {
+                roots: &mut self.roots,
+                open: &mut self.search_open,
+            };
+            let result = anyangle::plan(grid, &self.mesh.mesh(), start, goal, scratch, out);
+            let short = match &result {
+                Ok(stats) => !stats.exact,
+                Err(e) => *e == PlanError::CapacityExceeded,
+            };
+            if !short || self.search_open.len() >= SEARCH_OPEN_MAX {
+                return result;
+            }
+            let more = self.search_open.len() * 2;
+            self.search_open = vec![Node::EMPTY; more];
+        }
     }
 
     /// The component labels of the prepared map.
     pub fn labels(&self) -> &[u32] {
         &self.labels[..self.cells]
+    }
+
+    /// One swarm plan with the host's workspace.
+    #[allow(clippy::too_many_arguments)]
+    fn swarm(
+        &mut self,
+        grid: GridRef<'_>,
+        start: Cell,
+        goal: Cell,
+        params: &PlanParams,
+        out: &mut PathView,
+        history: &mut [f32],
+        interrupt: &mut dyn FnMut() -> bool,
+    ) -> Result<PlanReport, PlanError> {
+        let mut ws = Workspace {
+            anyangle: Some(AnyAngleWorkspace {
+                mesh: self.mesh.mesh(),
+                scratch: Scratch {
+                    roots: &mut self.roots,
+                    open: &mut self.search_open,
+                },
+            }),
+            nodes: &mut self.nodes,
+            open: &mut self.open,
+            guide: &mut *self.guide,
+            visited: &mut self.visited,
+            stations: &mut self.stations[..],
+        };
+        plan(
+            grid,
+            start,
+            goal,
+            params,
+            &mut ws,
+            &mut *self.optimizer,
+            out,
+            history,
+            interrupt,
+        )
     }
 
     /// Plans with any planner on the prepared map (`grid` must be the one passed to
@@ -164,6 +240,15 @@ impl HostPlanner {
                     report: None,
                 })
             }
+            PlannerKind::AnyAngle => {
+                let stats = self.anyangle(grid, start, goal, out)?;
+                Ok(Outcome {
+                    length: stats.length,
+                    turns: path::turns(out),
+                    expanded: Some(stats.expanded),
+                    report: None,
+                })
+            }
             PlannerKind::Aco => {
                 if self.tau.len() < 8 * self.cells {
                     self.tau = vec![0.0; 8 * self.cells];
@@ -193,36 +278,22 @@ impl HostPlanner {
                     algorithm,
                     ..*params
                 };
-                // Only the corridor encoding has a guide.
-                if params.guide == GuideKind::Visibility
-                    && params.encoding == EncodingKind::Corridor
-                {
-                    let vg = self
-                        .visibility
-                        .get_or_insert_with(|| VisibilityGraph::new(grid));
-                    // A route that fails its checks leaves `plan` on the A* guide.
-                    if !vg.route(grid, start, goal, &mut *self.guide) {
-                        self.guide.clear();
+                let report = match self.swarm(grid, start, goal, &params, out, history, interrupt) {
+                    // The guide's open list may have been short: grow it by a search of its
+                    // own, then plan once more.
+                    Err(PlanError::CapacityExceeded)
+                        if params.guide == super::GuideKind::AnyAngle
+                            && self.search_open.len() < SEARCH_OPEN_MAX =>
+                    {
+                        let had = self.search_open.len();
+                        self.anyangle(grid, start, goal, out)?;
+                        if self.search_open.len() == had {
+                            return Err(PlanError::CapacityExceeded);
+                        }
+                        self.swarm(grid, start, goal, &params, out, history, interrupt)?
                     }
-                }
-                let mut ws = Workspace {
-                    nodes: &mut self.nodes,
-                    open: &mut self.open,
-                    guide: &mut *self.guide,
-                    visited: &mut self.visited,
-                    stations: &mut self.stations[..],
+                    other => other?,
                 };
-                let report = plan(
-                    grid,
-                    start,
-                    goal,
-                    &params,
-                    &mut ws,
-                    &mut *self.optimizer,
-                    out,
-                    history,
-                    interrupt,
-                )?;
                 Ok(Outcome {
                     length: report.length,
                     turns: report.turns,

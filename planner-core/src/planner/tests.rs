@@ -3,6 +3,7 @@ use crate::encoding::corridor::Station;
 use crate::grid::{Grid, words_for};
 use crate::maps::{MapKind, lab_20x20, seed000};
 use crate::path::{Path, validate};
+use crate::search::anyangle::{Link, Node, Rect, Roots};
 use crate::search::connectivity;
 use std::{boxed::Box, vec};
 
@@ -13,6 +14,10 @@ struct Scratch {
     open: [OpenSlot; 1600],
     guide: Path<1600>,
     visited: [u32; 51],
+    rects: [Rect; 1600],
+    links: [Link; 1700],
+    roots: [Roots; 1600],
+    search: [Node; 1600],
 }
 
 impl Scratch {
@@ -22,7 +27,30 @@ impl Scratch {
             open: [OpenSlot::EMPTY; 1600],
             guide: Path::new(),
             visited: [0; 51],
+            rects: [Rect::EMPTY; 1600],
+            links: [Link::EMPTY; 1700],
+            roots: [Roots::EMPTY; 1600],
+            search: [Node::EMPTY; 1600],
         })
+    }
+
+    /// The workspace for plans on `g` (its mesh built here).
+    fn workspace<'a>(&'a mut self, g: &G, stations: &'a mut [Station]) -> Workspace<'a> {
+        let mesh = Mesh::build(g.view(), &mut self.rects, &mut self.links).unwrap();
+        Workspace {
+            anyangle: Some(AnyAngleWorkspace {
+                mesh,
+                scratch: anyangle::Scratch {
+                    roots: &mut self.roots,
+                    open: &mut self.search,
+                },
+            }),
+            nodes: &mut self.nodes,
+            open: &mut self.open,
+            guide: &mut self.guide,
+            visited: &mut self.visited,
+            stations,
+        }
     }
 
     fn run(
@@ -32,13 +60,8 @@ impl Scratch {
         t: Cell,
         p: &PlanParams,
     ) -> Result<(PlanReport, Path<1600>), PlanError> {
-        let mut ws = Workspace {
-            nodes: &mut self.nodes,
-            open: &mut self.open,
-            guide: &mut self.guide,
-            visited: &mut self.visited,
-            stations: &mut [Station::EMPTY; 64],
-        };
+        let mut stations = [Station::EMPTY; 64];
+        let mut ws = self.workspace(g, &mut stations);
         let mut out: Path<1600> = Path::new();
         let r = plan(
             g.view(),
@@ -200,6 +223,18 @@ fn every_error_from_bad_input() {
             walk_beta: f32::INFINITY,
             ..p
         },
+        PlanParams {
+            guide_relax: f32::NAN,
+            ..p
+        },
+        PlanParams {
+            guide_relax: -0.1,
+            ..p
+        },
+        PlanParams {
+            guide_relax: 0.6,
+            ..p
+        },
     ] {
         assert_eq!(
             sc.run(&g, c(0, 0), c(3, 2), &bad).unwrap_err(),
@@ -245,6 +280,7 @@ fn every_error_from_bad_input() {
     let mut guide: Path<4> = Path::new();
     let mut visited = [0u32; 1];
     let mut ws = Workspace {
+        anyangle: None,
         nodes: &mut nodes,
         open: &mut open,
         guide: &mut guide,
@@ -252,6 +288,10 @@ fn every_error_from_bad_input() {
         stations: &mut [Station::EMPTY; 64],
     };
     let mut out: Path<4> = Path::new();
+    let p = PlanParams {
+        guide: GuideKind::AStar,
+        ..p
+    };
     assert_eq!(
         plan(
             g.view(),
@@ -292,13 +332,8 @@ fn trivial_queries_and_interrupts() {
         .unwrap();
     assert_eq!(r.stop, PlanStop::Trivial);
     let m = seed000::<{ words_for(40, 40) }>(MapKind::Warehouse, 30).unwrap();
-    let mut ws = Workspace {
-        nodes: &mut sc.nodes,
-        open: &mut sc.open,
-        guide: &mut sc.guide,
-        visited: &mut sc.visited,
-        stations: &mut [Station::EMPTY; 64],
-    };
+    let mut stations = [Station::EMPTY; 64];
+    let mut ws = sc.workspace(&m.grid, &mut stations);
     let mut out: Path<1600> = Path::new();
     let mut calls = 0;
     let mut hist = [0.0f32; 500];
@@ -376,11 +411,11 @@ fn aco_baseline_finds_valid_paths() {
 }
 
 /// A lattice of shelves (1-cell gaps every 6 columns, aisles every 3 rows): every staircase
-/// ties under octile costs, so the A* route's class is arbitrary; the visibility route's is
-/// the shortest one.
+/// ties under octile costs, so the A* route's class is arbitrary; the any-angle route's is
+/// the shortest one (checked against the visibility graph's bound).
 #[cfg(feature = "alloc")]
 #[test]
-fn visibility_guide_finds_the_shortest_class_and_falls_back_to_a_star() {
+fn anyangle_guide_finds_the_shortest_class() {
     use crate::search::visibility::VisibilityGraph;
     let mut rows = std::string::String::new();
     for y in 0..30 {
@@ -403,14 +438,12 @@ fn visibility_guide_finds_the_shortest_class_and_falls_back_to_a_star() {
         ..PlanParams::new(AlgorithmKind::Tclhho)
     };
     let mut scratch = Scratch::new();
-    let (astar_guided, _) = scratch.run(&g, s, t, &base).unwrap();
-
-    let params = PlanParams {
-        guide: GuideKind::Visibility,
+    let astar = PlanParams {
+        guide: GuideKind::AStar,
         ..base
     };
-    assert!(vg.route(g.view(), s, t, &mut scratch.guide));
-    let (report, path) = scratch.run(&g, s, t, &params).unwrap();
+    let (astar_guided, _) = scratch.run(&g, s, t, &astar).unwrap();
+    let (report, path) = scratch.run(&g, s, t, &base).unwrap();
     assert_eq!(validate(g.view(), &path, s, t), Ok(()));
     assert!(report.length >= bound - 1e-3);
     assert!(
@@ -419,14 +452,48 @@ fn visibility_guide_finds_the_shortest_class_and_falls_back_to_a_star() {
         report.length
     );
     assert!(report.length < astar_guided.length - 0.5);
-
-    // A route that is not one (wrong start) is ignored: the plan uses the A* guide.
-    scratch.guide.clear();
-    scratch.guide.push(Cell::new(0, 29).center()).unwrap();
-    scratch.guide.push(t.center()).unwrap();
-    let (fallback, path) = scratch.run(&g, s, t, &params).unwrap();
+    // Stations half a cell off the corners: still in the shortest class, a little longer.
+    let relaxed = PlanParams {
+        guide_relax: 0.5,
+        ..base
+    };
+    let (report, path) = scratch.run(&g, s, t, &relaxed).unwrap();
     assert_eq!(validate(g.view(), &path, s, t), Ok(()));
-    assert_eq!(fallback.length, astar_guided.length);
+    assert!(
+        report.length <= bound * 1.05,
+        "{} vs {bound}",
+        report.length
+    );
+    assert!(report.length < astar_guided.length, "{}", report.length);
+}
+
+/// The any-angle guide needs its workspace: without one the plan is refused.
+#[test]
+fn anyangle_guide_without_its_workspace_is_invalid() {
+    let g = G::new(8, 8).unwrap();
+    let (mut nodes, mut open) = ([AStarNode::EMPTY; 64], [OpenSlot::EMPTY; 64]);
+    let mut guide: Path<64> = Path::new();
+    let mut ws = Workspace {
+        anyangle: None,
+        nodes: &mut nodes,
+        open: &mut open,
+        guide: &mut guide,
+        visited: &mut [],
+        stations: &mut [Station::EMPTY; 16],
+    };
+    let mut out: Path<64> = Path::new();
+    let r = plan(
+        g.view(),
+        Cell::new(0, 0),
+        Cell::new(7, 7),
+        &quick(AlgorithmKind::Tclhho),
+        &mut ws,
+        &mut AnyOptimizer::<30, 16>::unconfigured(),
+        &mut out,
+        &mut [],
+        &mut || false,
+    );
+    assert_eq!(r.unwrap_err(), PlanError::InvalidParameters);
 }
 
 /// Only the walk encoding reads `visited`: the others plan with an empty slice (firmware
@@ -444,6 +511,7 @@ fn visited_bitset_only_for_the_walk_encoding() {
         (EncodingKind::Walk, Some(PlanError::CapacityExceeded)),
     ] {
         let mut ws = Workspace {
+            anyangle: None,
             nodes: &mut nodes,
             open: &mut open,
             guide: &mut guide,
@@ -453,6 +521,7 @@ fn visited_bitset_only_for_the_walk_encoding() {
         let p = PlanParams {
             encoding,
             iterations: 20,
+            guide: GuideKind::AStar,
             ..PlanParams::new(AlgorithmKind::Igwo)
         };
         let r = plan(
@@ -472,4 +541,52 @@ fn visited_bitset_only_for_the_walk_encoding() {
             None => assert_ne!(r.err(), Some(PlanError::CapacityExceeded), "{encoding:?}"),
         }
     }
+}
+
+/// On a dense lattice of two-cell racks the exact search would cost far more than A*: past
+/// its bound the A* route guides the plan, and the report says so.
+#[cfg(feature = "alloc")]
+#[test]
+fn dense_lattices_fall_back_to_the_a_star_guide() {
+    use super::aco::AcoParams;
+    use super::owned::HostPlanner;
+    use crate::grid::GridBuf;
+    let side = 200;
+    let mut g = GridBuf::new(side, side).unwrap();
+    for y in 2..side - 2 {
+        for x in 2..side - 2 {
+            if (y - 2) % 8 < 6 && (x - 2) % 4 < 2 {
+                g.set_blocked(x, y, true).unwrap();
+            }
+        }
+    }
+    let mut planner = HostPlanner::new();
+    planner.prepare(g.view()).unwrap();
+    let mut out: Box<Path<65536>> = Box::new(Path::new());
+    let params = PlanParams {
+        iterations: 30,
+        ..PlanParams::new(AlgorithmKind::Tclhho)
+    };
+    let (s, t) = (Cell::new(0, 0), Cell::new(199, 199));
+    let run = |planner: &mut HostPlanner, out: &mut Path<65536>, s: Cell, t: Cell| {
+        planner
+            .plan(
+                g.view(),
+                PlannerKind::Swarm(AlgorithmKind::Tclhho),
+                s,
+                t,
+                &params,
+                &AcoParams::default(),
+                out,
+                &mut [],
+                &mut || false,
+            )
+            .unwrap()
+    };
+    let far = run(&mut planner, &mut out, s, t);
+    assert_eq!(far.report.unwrap().guide, Some(GuideKind::AStar));
+    assert_eq!(validate(g.view(), &out[..], s, t), Ok(()));
+    // A short query stays within the bound.
+    let near = run(&mut planner, &mut out, s, Cell::new(20, 1));
+    assert_eq!(near.report.unwrap().guide, Some(GuideKind::AnyAngle));
 }

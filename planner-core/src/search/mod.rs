@@ -3,9 +3,12 @@
 //! - [`astar`]: A* with octile costs and no corner cutting: the shortest 8-connected path
 //!   (Moving AI's published optimal lengths are golden values for it);
 //! - [`theta`]: Theta*, any-angle paths never longer than A*'s;
+//! - [`anyangle`]: the exact shortest any-angle path (Polyanya's interval search on the free
+//!   space cut into rectangles, built once per map in linear time), with exact
+//!   unreachability;
 //! - [`connectivity`]: component labels, so that an unreachable goal is reported at once;
 //! - `visibility` (feature `alloc`, host only): the reduced visibility graph of the obstacle
-//!   corners, for shortest any-angle routes and lower bounds.
+//!   corners (quadratic to build), an independent check of `anyangle` and a lower bound.
 //!
 //! The search state lives in caller-owned slices with one entry per map cell (a `static`
 //! array in firmware, a `Vec` on a host), so no planner allocates and the same code serves
@@ -28,6 +31,7 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+pub mod anyangle;
 pub mod astar;
 pub mod connectivity;
 pub mod theta;

@@ -3,9 +3,9 @@
 //! about 6 MB for a 340 x 164 Moving AI warehouse).
 //!
 //! Two uses: a rigorous lower bound on the length of any valid path (`host-sim bench
-//! lowerbound`), and a guide route for the corridor encoding that lies in the homotopy class
-//! of the shortest path. The octile A* route often does not: on a lattice of shelves every
-//! staircase ties under octile costs, while the shortest any-angle path spreads its steps.
+//! lowerbound`), and an independent check of the exact any-angle planner
+//! ([`anyangle`](super::anyangle), which replaced this graph's route as the corridor's guide:
+//! building the graph is quadratic in the corners).
 //!
 //! # What is computed
 //!
@@ -51,14 +51,8 @@ use alloc::vec;
 use alloc::vec::Vec;
 use core::cmp::Ordering;
 
-use crate::geometry::{Cell, Point, segment_is_clear};
+use crate::geometry::Cell;
 use crate::grid::GridRef;
-use crate::path::PathView;
-
-/// How far (per axis, cells) [`VisibilityGraph::route`] keeps off the corners it turns at:
-/// well above the `f32` rounding of coordinates up to a few thousand cells and above
-/// [`TOUCH_EPS`](crate::geometry::TOUCH_EPS), and costs at most `2.9e-3` cells a turn.
-pub const ROUTE_EPS: f64 = 2e-3;
 
 /// A vertex in doubled coordinates: cell `(x, y)` is the open square
 /// `(2x - 1, 2x + 1) x (2y - 1, 2y + 1)`, so cell centres are even and corners odd.
@@ -417,25 +411,6 @@ impl VisibilityGraph {
             })
             .collect()
     }
-
-    /// A valid route near the shortest one, for the corridor encoding's guide
-    /// ([`GuideKind::Visibility`](crate::planner::GuideKind::Visibility)): the
-    /// [`witness`](Self::witness) with corners [`ROUTE_EPS`] off, in `f32`, written to
-    /// `out`. `false` (and `out` unspecified) when there is none, it does not fit, or a
-    /// segment fails the `f32` collision check.
-    pub fn route(&self, grid: GridRef<'_>, start: Cell, goal: Cell, out: &mut PathView) -> bool {
-        let Some(points) = self.witness(grid, start, goal, ROUTE_EPS) else {
-            return false;
-        };
-        out.clear();
-        for p in &points {
-            let q = Point::new(p[0] as f32, p[1] as f32);
-            if out.last() != Some(&q) && out.push(q).is_err() {
-                return false;
-            }
-        }
-        out.windows(2).all(|s| segment_is_clear(grid, s[0], s[1]))
-    }
 }
 
 #[cfg(test)]
@@ -692,12 +667,12 @@ mod tests {
                 let bound = vg.shortest(g.view(), s, t).expect("a valid path exists");
                 assert!(bound <= th.length as f64 + 1e-4, "{bound} > {}", th.length);
                 assert!(bound <= a.length as f64 + 1e-4);
-                // The route (when it turns at no pinch point) is valid and about as long.
-                let mut route: Box<Path<256>> = Box::new(Path::new());
-                if vg.route(g.view(), s, t, &mut *route) {
-                    let ok = crate::path::validate(g.view(), &route, s, t);
-                    assert!(ok.is_ok(), "{s:?} {t:?} {route:?}");
-                    let len = crate::path::length(&route) as f64;
+                // The witness (when it turns at no pinch point) is about as long.
+                if let Some(w) = vg.witness(g.view(), s, t, 1e-3) {
+                    let len: f64 = w
+                        .windows(2)
+                        .map(|p| ((p[1][0] - p[0][0]).powi(2) + (p[1][1] - p[0][1]).powi(2)).sqrt())
+                        .sum();
                     assert!(
                         len >= bound - 1e-4 && len <= bound + 0.05,
                         "{len} vs {bound}"

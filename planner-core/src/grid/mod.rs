@@ -21,6 +21,14 @@
 use crate::error::{GridError, MapError};
 use crate::geometry::Cell;
 
+#[cfg(feature = "alloc")]
+mod buf;
+mod inflate;
+mod movingai;
+
+#[cfg(feature = "alloc")]
+pub use buf::GridBuf;
+
 /// The number of 32-bit words a `width x height` grid needs: use it as the capacity.
 pub const fn words_for(width: usize, height: usize) -> usize {
     (width * height).div_ceil(32)
@@ -94,145 +102,42 @@ impl<const WORDS: usize> Grid<WORDS> {
 
     /// Marks a cell blocked (`true`) or free (`false`).
     pub fn set_blocked(&mut self, x: usize, y: usize, blocked: bool) -> Result<(), GridError> {
-        if x >= self.width || y >= self.height {
-            return Err(GridError::OutOfBounds);
-        }
-        set_bit(&mut self.bits, y * self.width + x, blocked)?;
-        set_bit(&mut self.columns, x * self.height + y, blocked)
+        self.view_mut().set_blocked(x, y, blocked)
     }
 
     /// Parses Moving AI `.map` text: `type octile`, `height H`, `width W`, `map`, then `H`
     /// rows of `W` characters. `.` and `G` are free; `@ O T S W` are blocked (stricter than
-    /// the format page for `S` and `W`, as SPEC says). CRLF line ends are accepted.
+    /// the format page for `S` and `W`). CRLF line ends are accepted.
     pub fn parse_movingai(text: &[u8]) -> Result<Self, MapError> {
-        let mut lines = Lines::new(text);
-        let mut width = None;
-        let mut height = None;
-        let mut saw_type = false;
-        loop {
-            let (no, line) = lines.next().ok_or(MapError::MalformedHeader {
-                line: lines.line_no + 1,
-            })?;
-            let mut words = line
-                .split(|b| *b == b' ' || *b == b'\t')
-                .filter(|w| !w.is_empty());
-            let key = words.next();
-            let value = words.next();
-            if words.next().is_some() {
-                return Err(MapError::MalformedHeader { line: no });
-            }
-            match (key, value) {
-                (Some(b"type"), Some(kind)) if !saw_type => {
-                    if kind != b"octile" {
-                        return Err(MapError::UnsupportedType);
-                    }
-                    saw_type = true;
-                }
-                (Some(b"height"), Some(v)) if height.is_none() => {
-                    height =
-                        Some(parse_dimension(v).ok_or(MapError::MalformedHeader { line: no })?);
-                }
-                (Some(b"width"), Some(v)) if width.is_none() => {
-                    width = Some(parse_dimension(v).ok_or(MapError::MalformedHeader { line: no })?);
-                }
-                (Some(b"map"), None) => break,
-                _ => return Err(MapError::MalformedHeader { line: no }),
-            }
-        }
-        let (Some(width), Some(height), true) = (width, height, saw_type) else {
-            return Err(MapError::MalformedHeader {
-                line: lines.line_no,
-            });
-        };
-        let mut grid = Self::new(width, height).map_err(|_| {
-            if width == 0 || height == 0 {
-                MapError::EmptyMap
-            } else {
-                MapError::CapacityExceeded { width, height }
-            }
-        })?;
-        for row in 0..height {
-            let (_, line) = lines.next().ok_or(MapError::MissingRows {
-                expected: height,
-                found: row,
-            })?;
-            grid.fill_row(row, line)?;
-        }
-        for (no, line) in lines {
-            if !line.iter().all(|b| b.is_ascii_whitespace()) {
-                return Err(MapError::TrailingData { line: no });
-            }
-        }
+        let (width, height, mut body) = movingai::header(text)?;
+        let mut grid = Self::new(width, height).map_err(|_| movingai::size_error(width, height))?;
+        movingai::fill(&mut grid.view_mut(), &mut body)?;
         Ok(grid)
     }
 
     /// Parses bare rows of terrain characters (no header): all rows must have the same length.
     /// Handy for tests and generated maps.
     pub fn parse_rows(text: &[u8]) -> Result<Self, MapError> {
-        let mut lines = Lines::new(text).filter(|(_, l)| !l.is_empty());
-        let mut height = 0;
-        let mut width = 0;
-        for (_, line) in lines.by_ref() {
-            if height == 0 {
-                width = line.len();
-            }
-            height += 1;
-        }
-        let mut grid = Self::new(width, height).map_err(|_| {
-            if width == 0 || height == 0 {
-                MapError::EmptyMap
-            } else {
-                MapError::CapacityExceeded { width, height }
-            }
-        })?;
-        for (row, (_, line)) in Lines::new(text).filter(|(_, l)| !l.is_empty()).enumerate() {
-            grid.fill_row(row, line)?;
-        }
+        let (width, height) = movingai::rows_size(text);
+        let mut grid = Self::new(width, height).map_err(|_| movingai::size_error(width, height))?;
+        movingai::fill_rows(&mut grid.view_mut(), text)?;
         Ok(grid)
     }
 
     /// Writes the grid as Moving AI `.map` text (`.` free, `@` blocked), the inverse of
     /// [`parse_movingai`](Self::parse_movingai).
     pub fn write_movingai(&self, out: &mut impl core::fmt::Write) -> core::fmt::Result {
-        write!(
-            out,
-            "type octile\nheight {}\nwidth {}\nmap\n",
-            self.height, self.width
-        )?;
-        let view = self.view();
-        for y in 0..self.height as isize {
-            for x in 0..self.width as isize {
-                out.write_char(if view.is_blocked(x, y) { '@' } else { '.' })?;
-            }
-            out.write_char('\n')?;
-        }
-        Ok(())
+        movingai::write(self.view(), out)
     }
 
-    fn fill_row(&mut self, row: usize, line: &[u8]) -> Result<(), MapError> {
-        if line.len() != self.width {
-            return Err(MapError::WrongRowLength {
-                row: row + 1,
-                expected: self.width,
-                found: line.len(),
-            });
+    /// The mutable capacity-independent view.
+    pub fn view_mut(&mut self) -> GridMut<'_> {
+        GridMut {
+            width: self.width,
+            height: self.height,
+            bits: &mut self.bits,
+            columns: &mut self.columns,
         }
-        for (x, &byte) in line.iter().enumerate() {
-            let blocked = match byte {
-                b'.' | b'G' => false,
-                b'@' | b'O' | b'T' | b'S' | b'W' => true,
-                _ => {
-                    return Err(MapError::UnknownCharacter {
-                        row: row + 1,
-                        column: x + 1,
-                        byte,
-                    });
-                }
-            };
-            // Cannot fail: row < height and x < width were checked above.
-            let _ = self.set_blocked(x, row, blocked);
-        }
-        Ok(())
     }
 
     /// Writes into `out` this grid inflated by a robot `radius` (in cells): a cell becomes
@@ -246,41 +151,194 @@ impl<const WORDS: usize> Grid<WORDS> {
         radius: f32,
         out: &mut Grid<W2>,
     ) -> Result<(), GridError> {
-        if !radius.is_finite() || radius < 0.0 {
-            return Err(GridError::InvalidRadius);
-        }
+        inflate::check_radius(radius)?;
         *out = Grid::new(self.width, self.height)?;
-        // Offsets (dx, dy) whose squares lie closer than `radius`: the gap between two unit
-        // squares whose centres differ by d is max(|d| - 1, 0) on each axis.
-        // Offsets are capped at one past the longer side: a longer one lands outside the map,
-        // and so does the capped offset, which is closer. Without the cap a huge finite
-        // radius (1e30) made the scan loop for ever.
-        let cap = self.width.max(self.height) as isize + 1;
-        let reach = (libm::ceilf(radius) as isize).min(cap);
-        let view = self.view();
-        for y in 0..self.height as isize {
-            for x in 0..self.width as isize {
-                let mut blocked = view.is_blocked(x, y);
-                'scan: for dy in -reach..=reach {
-                    for dx in -reach..=reach {
-                        let gx = (dx.unsigned_abs() as f32 - 1.0).max(0.0);
-                        let gy = (dy.unsigned_abs() as f32 - 1.0).max(0.0);
-                        if gx * gx + gy * gy < radius * radius && view.is_blocked(x + dx, y + dy) {
-                            blocked = true;
-                            break 'scan;
-                        }
-                    }
+        inflate::inflate(self.view(), radius, &mut out.view_mut())
+    }
+}
+
+/// A mutable, capacity-independent view of a grid (what [`Grid`] and, with the `alloc`
+/// feature, [`GridBuf`] lend to the loaders and to inflation).
+#[derive(Debug)]
+pub struct GridMut<'a> {
+    width: usize,
+    height: usize,
+    bits: &'a mut [u32],
+    columns: &'a mut [u32],
+}
+
+impl<'a> GridMut<'a> {
+    /// A mutable view of a grid whose bits live elsewhere (see [`GridRef::from_words`]);
+    /// writing through it keeps both layouts in step.
+    pub fn from_words(
+        width: usize,
+        height: usize,
+        rows: &'a mut [u32],
+        columns: &'a mut [u32],
+    ) -> Result<Self, GridError> {
+        check_words(width, height, rows.len(), columns.len())?;
+        Ok(GridMut {
+            width,
+            height,
+            bits: rows,
+            columns,
+        })
+    }
+}
+
+impl GridMut<'_> {
+    /// The read-only view.
+    pub fn view(&self) -> GridRef<'_> {
+        GridRef {
+            width: self.width,
+            height: self.height,
+            bits: self.bits,
+            columns: self.columns,
+        }
+    }
+
+    /// Marks a cell blocked (`true`) or free (`false`).
+    pub fn set_blocked(&mut self, x: usize, y: usize, blocked: bool) -> Result<(), GridError> {
+        if x >= self.width || y >= self.height {
+            return Err(GridError::OutOfBounds);
+        }
+        set_bit(self.bits, y * self.width + x, blocked)?;
+        set_bit(self.columns, x * self.height + y, blocked)
+    }
+
+    /// Sets every row at once: `row(y, words)` fills row `y` into `words` (bit `x % 32` of
+    /// word `x / 32` is cell `x`, set = blocked; bits past the width are ignored). Faster
+    /// than [`set_blocked`](Self::set_blocked) cell by cell on big maps: whole words, then
+    /// one transposition for the column layout. Rows of up to [`MAX_ROW_WORDS`] words
+    /// (8192 cells); wider maps are [`GridError::CapacityExceeded`].
+    pub fn fill_rows(&mut self, mut row: impl FnMut(usize, &mut [u32])) -> Result<(), GridError> {
+        let row_words = self.width.div_ceil(32);
+        if row_words > MAX_ROW_WORDS {
+            return Err(GridError::CapacityExceeded);
+        }
+        let mut words = [0u32; MAX_ROW_WORDS];
+        for y in 0..self.height {
+            words[..row_words].fill(0);
+            row(y, &mut words[..row_words]);
+            self.write_row(y, &words[..row_words]);
+        }
+        self.rebuild_columns();
+        Ok(())
+    }
+
+    /// Writes row `y` of the row-major bits from aligned words (cell `x` is bit `x % 32` of
+    /// word `x / 32`); the column layout is left stale until [`rebuild_columns`].
+    pub(crate) fn write_row(&mut self, y: usize, row: &[u32]) {
+        let w = self.width;
+        if y >= self.height {
+            return;
+        }
+        for (i, &word) in row.iter().enumerate().take(w.div_ceil(32)) {
+            let n = (w - 32 * i).min(32);
+            write_bits(self.bits, y * w + 32 * i, word, n);
+        }
+    }
+
+    /// Recomputes the column-major bits from the row-major ones, 32 x 32 blocks at a time.
+    pub(crate) fn rebuild_columns(&mut self) {
+        let (w, h) = (self.width, self.height);
+        let mut block = [0u32; 32];
+        for y0 in (0..h).step_by(32) {
+            let rows = (h - y0).min(32);
+            for x0 in (0..w).step_by(32) {
+                let cols = (w - x0).min(32);
+                let mask = if cols == 32 { !0 } else { (1u32 << cols) - 1 };
+                for (r, slot) in block.iter_mut().enumerate() {
+                    *slot = if r < rows {
+                        word_at(self.bits, (y0 + r) * w + x0) & mask
+                    } else {
+                        0
+                    };
                 }
-                if blocked {
-                    out.set_blocked(x as usize, y as usize, true)?;
+                transpose32(&mut block);
+                for (c, &word) in block.iter().enumerate().take(cols) {
+                    write_bits(self.columns, (x0 + c) * h + y0, word, rows);
                 }
             }
         }
-        Ok(())
+    }
+}
+
+/// Longest row, in words, that [`GridMut::fill_rows`] and inflation take: 8192 cells.
+pub const MAX_ROW_WORDS: usize = 256;
+
+/// The 32 bits starting at bit `start` (bits past the slice read as 0).
+#[inline]
+pub(crate) fn word_at(bits: &[u32], start: usize) -> u32 {
+    let (i, r) = (start / 32, (start % 32) as u32);
+    let lo = bits.get(i).copied().unwrap_or(0);
+    if r == 0 {
+        return lo;
+    }
+    let hi = bits.get(i + 1).copied().unwrap_or(0);
+    (lo >> r) | (hi << (32 - r))
+}
+
+/// Writes the low `n` bits of `value` at bit `start` (`n <= 32`; bits past the slice are
+/// dropped).
+fn write_bits(bits: &mut [u32], start: usize, value: u32, n: usize) {
+    if n == 0 {
+        return;
+    }
+    let mask = (1u64 << n.min(32)) - 1;
+    let (i, r) = (start / 32, start % 32);
+    let wide = ((value as u64) & mask) << r;
+    let wide_mask = mask << r;
+    if let Some(lo) = bits.get_mut(i) {
+        *lo = (*lo & !(wide_mask as u32)) | wide as u32;
+    }
+    if wide_mask >> 32 != 0
+        && let Some(hi) = bits.get_mut(i + 1)
+    {
+        *hi = (*hi & !((wide_mask >> 32) as u32)) | (wide >> 32) as u32;
+    }
+}
+
+/// Transposes a 32 x 32 bit matrix in place: bit `c` of word `r` moves to bit `r` of word
+/// `c` (Hacker's Delight, 7-3).
+fn transpose32(m: &mut [u32; 32]) {
+    let mut j = 16;
+    let mut mask: u32 = 0x0000_FFFF;
+    while j != 0 {
+        let mut k = 0;
+        while k < 32 {
+            let t = ((m[k] >> j) ^ m[k + j]) & mask;
+            m[k] ^= t << j;
+            m[k + j] ^= t;
+            k = (k + j + 1) & !j;
+        }
+        j >>= 1;
+        mask ^= mask << j;
     }
 }
 
 impl<'a> GridRef<'a> {
+    /// A view of a grid whose bits live elsewhere (shared memory, a frame from a peer): `rows`
+    /// holds the row-major bits and `columns` the column-major ones, each at least
+    /// [`words_for`]`(width, height)` words. Nothing is copied, and nothing checks that the
+    /// two layouts agree: they must be one grid's (as [`GridMut`] keeps them), or planners
+    /// answer for a map that is neither. [`GridError::CapacityExceeded`] for a zero side, a
+    /// side above [`MAX_SIDE`], or too few words.
+    pub fn from_words(
+        width: usize,
+        height: usize,
+        rows: &'a [u32],
+        columns: &'a [u32],
+    ) -> Result<Self, GridError> {
+        check_words(width, height, rows.len(), columns.len())?;
+        Ok(GridRef {
+            width,
+            height,
+            bits: rows,
+            columns,
+        })
+    }
+
     /// Width in cells.
     pub const fn width(&self) -> usize {
         self.width
@@ -352,6 +410,48 @@ impl<'a> GridRef<'a> {
         run_count(self.columns, self.width, self.height, x, y0, y1)
     }
 
+    /// The 32 cells of row `y` from column `x` on, as bits (bit `i` is cell `x + i`; set =
+    /// blocked, cells past the row's end or off the map are blocked).
+    #[inline]
+    pub fn row_bits(&self, y: usize, x: usize) -> u32 {
+        if y >= self.height || x >= self.width {
+            return !0;
+        }
+        let left = self.width - x;
+        let bits = word_at(self.bits, y * self.width + x);
+        if left >= 32 {
+            bits
+        } else {
+            bits | (!0u32 << left)
+        }
+    }
+
+    /// The first blocked column of row `y` at or after `x` (`width` when there is none).
+    #[inline]
+    pub fn next_blocked(&self, y: usize, mut x: usize) -> usize {
+        while x < self.width {
+            let bits = self.row_bits(y, x);
+            if bits != 0 {
+                return (x + bits.trailing_zeros() as usize).min(self.width);
+            }
+            x += 32;
+        }
+        self.width
+    }
+
+    /// The first free column of row `y` at or after `x` (`width` when there is none).
+    #[inline]
+    pub fn next_free(&self, y: usize, mut x: usize) -> usize {
+        while x < self.width {
+            let free = !self.row_bits(y, x);
+            if free != 0 {
+                return (x + free.trailing_zeros() as usize).min(self.width);
+            }
+            x += 32;
+        }
+        self.width
+    }
+
     /// Whether a cell is on the map and free.
     #[inline]
     pub fn is_free(&self, cell: Cell) -> bool {
@@ -377,6 +477,18 @@ impl<'a> GridRef<'a> {
             .filter(|&i| self.is_blocked((i % self.width) as isize, (i / self.width) as isize))
             .count()
     }
+}
+
+/// The size checks of the `from_words` views.
+fn check_words(width: usize, height: usize, rows: usize, columns: usize) -> Result<(), GridError> {
+    if width == 0 || height == 0 || width > MAX_SIDE || height > MAX_SIDE {
+        return Err(GridError::CapacityExceeded);
+    }
+    let words = words_for(width, height);
+    if rows < words || columns < words {
+        return Err(GridError::CapacityExceeded);
+    }
+    Ok(())
 }
 
 fn set_bit(bits: &mut [u32], i: usize, value: bool) -> Result<(), GridError> {
@@ -439,49 +551,6 @@ fn count_set(bits: &[u32], first: usize, last: usize) -> u32 {
         return count(w0, head & tail);
     }
     (w0 + 1..w1).map(|w| count(w, !0)).sum::<u32>() + count(w0, head) + count(w1, tail)
-}
-
-/// Parses a decimal side length; `None` for anything but 1-6 ASCII digits.
-fn parse_dimension(text: &[u8]) -> Option<usize> {
-    if text.is_empty() || text.len() > 6 {
-        return None;
-    }
-    text.iter().try_fold(0usize, |acc, &b| {
-        b.is_ascii_digit().then(|| acc * 10 + (b - b'0') as usize)
-    })
-}
-
-/// Lines of a byte slice with 1-based numbers, without the `\n` or `\r\n`.
-struct Lines<'t> {
-    rest: &'t [u8],
-    line_no: usize,
-}
-
-impl<'t> Lines<'t> {
-    fn new(text: &'t [u8]) -> Self {
-        Lines {
-            rest: text,
-            line_no: 0,
-        }
-    }
-}
-
-impl<'t> Iterator for Lines<'t> {
-    type Item = (usize, &'t [u8]);
-
-    fn next(&mut self) -> Option<Self::Item> {
-        if self.rest.is_empty() {
-            return None;
-        }
-        let (line, rest) = match self.rest.iter().position(|&b| b == b'\n') {
-            Some(n) => (&self.rest[..n], &self.rest[n + 1..]),
-            None => (self.rest, &[][..]),
-        };
-        self.rest = rest;
-        self.line_no += 1;
-        let line = line.strip_suffix(b"\r").unwrap_or(line);
-        Some((self.line_no, line))
-    }
 }
 
 #[cfg(test)]
@@ -640,6 +709,22 @@ mod tests {
     }
 
     #[test]
+    fn views_of_outside_words_read_and_write_both_layouts() {
+        let (mut rows, mut cols) = ([0u32; 4], [0u32; 4]);
+        let mut g = GridMut::from_words(10, 9, &mut rows, &mut cols).unwrap();
+        g.set_blocked(7, 3, true).unwrap();
+        let v = g.view();
+        assert!(v.is_blocked(7, 3) && v.row_run_blocked(3, 0, 9) && v.column_run_blocked(7, 0, 8));
+        let v = GridRef::from_words(10, 9, &rows, &cols).unwrap();
+        assert!(v.is_blocked(7, 3) && !v.is_blocked(3, 7));
+        assert_eq!(
+            GridRef::from_words(10, 13, &rows, &cols).err(),
+            Some(GridError::CapacityExceeded)
+        );
+        assert!(GridRef::from_words(0, 1, &rows, &cols).is_err());
+    }
+
+    #[test]
     fn new_and_set_report_errors() {
         assert_eq!(Small::new(0, 3), Err(GridError::CapacityExceeded));
         assert_eq!(Small::new(9, 8), Err(GridError::CapacityExceeded));
@@ -663,5 +748,25 @@ mod tests {
             g.inflate_into(-1.0, &mut out),
             Err(GridError::InvalidRadius)
         );
+    }
+}
+
+#[cfg(test)]
+mod bit_tests {
+    #[test]
+    fn transpose32_moves_bit_c_of_row_r_to_bit_r_of_row_c() {
+        let mut m = [0u32; 32];
+        let mut seed = 0x9E37_79B9u32;
+        for w in m.iter_mut() {
+            seed = seed.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            *w = seed;
+        }
+        let orig = m;
+        super::transpose32(&mut m);
+        for (r, row) in orig.iter().enumerate() {
+            for (c, column) in m.iter().enumerate() {
+                assert_eq!((column >> r) & 1, (row >> c) & 1, "r {r} c {c}");
+            }
+        }
     }
 }
