@@ -1,52 +1,153 @@
 //! The transport-free part of the server: the map store (keyed by map id, holding the
 //! newest version) and the planner dispatch. The iceoryx2 server and the socket benchmark
 //! peer both run requests through [`Engine::handle`], so they do exactly the same work.
+//!
+//! A stored map's cells live either in the server's own memory ([`MapCells::Grid`]) or in
+//! a received frame the store keeps as it is ([`MapCells::Frame`]: an iceoryx2 sample in
+//! shared memory, planned on through a [`GridRef`] view of its words, never copied).
 
 use crate::wire::{
-    Algorithm, Failure, MAP_CAPACITY_CELLS, MAX_WAYPOINTS, MapMeta, PlanOk, PlanRequest,
-    PlanResult, RequestKind, ServiceError, WireGrid, to_cell,
+    Algorithm, Failure, MAX_WAYPOINTS, MapMeta, PlanOk, PlanRequest, PlanResult, RequestKind,
+    ServiceError, to_cell,
 };
 use planner_core::PlanError;
+use planner_core::grid::{GridBuf, GridRef, words_for};
 use planner_core::optim::any::AlgorithmKind;
 use planner_core::path::{Path, PathView};
 use planner_core::planner::PlanParams;
 use planner_core::planner::aco::AcoParams;
 use planner_core::planner::owned::HostPlanner;
 use std::collections::HashMap;
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex, RwLock};
 use std::time::Instant;
 
 /// How many inflated variants (one per robot radius) a map keeps cached.
 const INFLATED_CACHE: usize = 4;
 
-/// A grid ready for queries (possibly inflated); each worker's planner labels its
-/// components once per grid it meets.
-pub struct Prepared {
-    grid: Box<WireGrid>,
+/// Words of a received frame that the store keeps instead of copying them: the row-major
+/// bits of a `width x height` grid in the first `n = words_for(width, height)` words, the
+/// column-major bits in the next `n` (a
+/// [`LAYOUT_ROWS_AND_COLUMNS`](crate::wire::LAYOUT_ROWS_AND_COLUMNS) frame).
+pub trait FrameWords {
+    /// The frame's words.
+    fn words(&self) -> &[u32];
 }
 
-impl Prepared {
-    fn new(grid: Box<WireGrid>) -> Result<Self, PlanError> {
-        Ok(Prepared { grid })
+/// The frame type of a store that keeps no frames (every map in its own memory).
+#[derive(Debug)]
+pub enum NoFrame {}
+
+impl FrameWords for NoFrame {
+    fn words(&self) -> &[u32] {
+        match *self {}
+    }
+}
+
+/// Where a stored map's cells live.
+pub enum MapCells<F = NoFrame> {
+    /// The server's own memory (built from a rows-only frame, or copied).
+    Grid(GridBuf),
+    /// A received frame, planned on in place.
+    Frame {
+        /// The frame (its words hold both layouts).
+        frame: F,
+        /// Width in cells.
+        width: usize,
+        /// Height in cells.
+        height: usize,
+    },
+}
+
+impl<F: FrameWords> MapCells<F> {
+    /// A kept frame of a `width x height` grid; [`ServiceError::InvalidRequest`] when it
+    /// holds fewer words than both layouts need or has a zero side (so that
+    /// [`view`](Self::view) never fails).
+    pub fn frame(frame: F, width: usize, height: usize) -> Result<Self, ServiceError> {
+        let cells = MapCells::Frame {
+            frame,
+            width,
+            height,
+        };
+        match cells.view() {
+            Some(_) => Ok(cells),
+            None => Err(ServiceError::InvalidRequest),
+        }
+    }
+
+    /// The grid view (`None` only for a frame [`frame`](Self::frame) refused).
+    pub fn view(&self) -> Option<GridRef<'_>> {
+        match self {
+            MapCells::Grid(grid) => Some(grid.view()),
+            MapCells::Frame {
+                frame,
+                width,
+                height,
+            } => {
+                let words = frame.words();
+                let n = words_for(*width, *height);
+                let (rows, rest) = words.split_at_checked(n)?;
+                GridRef::from_words(*width, *height, rows, rest.get(..n)?).ok()
+            }
+        }
+    }
+}
+
+/// A grid ready for queries (possibly inflated); each worker's planner labels its
+/// components once per grid it meets (by [`id`](Self::id)).
+pub struct Prepared<F = NoFrame> {
+    /// Unique for the life of the process: what a worker's scratch remembers (not the
+    /// `Arc`, which would keep a frame borrowed after its map was replaced).
+    id: u64,
+    width: usize,
+    height: usize,
+    cells: MapCells<F>,
+}
+
+impl<F: FrameWords> Prepared<F> {
+    fn new(cells: MapCells<F>) -> Result<Self, ServiceError> {
+        static NEXT: AtomicU64 = AtomicU64::new(1);
+        let view = cells.view().ok_or(ServiceError::InvalidRequest)?;
+        Ok(Prepared {
+            id: NEXT.fetch_add(1, Ordering::Relaxed),
+            width: view.width(),
+            height: view.height(),
+            cells,
+        })
+    }
+
+    /// The grid view; [`ServiceError::Internal`] never happens (checked when made).
+    fn view(&self) -> Result<GridRef<'_>, ServiceError> {
+        self.cells.view().ok_or(ServiceError::Internal)
     }
 }
 
 /// One map version held by the store.
-pub struct StoredMap {
+pub struct StoredMap<F = NoFrame> {
     /// Identity and placement.
     pub meta: MapMeta,
-    base: Arc<Prepared>,
-    inflated: Mutex<Vec<(u32, Arc<Prepared>)>>,
+    /// How long making the frame usable took, microseconds (building the grid from a
+    /// rows-only frame; checking, and copying if the frame is not kept, a frame of both
+    /// layouts): what a map-status answer reports; `0` when the caller did not say.
+    pub decode_us: f32,
+    base: Arc<Prepared<F>>,
+    inflated: Mutex<Vec<(u32, Arc<Prepared<F>>)>>,
 }
 
-impl StoredMap {
+impl<F: FrameWords> StoredMap<F> {
     /// Width and height in cells.
     pub fn size(&self) -> (usize, usize) {
-        (self.base.grid.width(), self.base.grid.height())
+        (self.base.width, self.base.height)
+    }
+
+    /// Whether the cells are a kept frame (planned on in place) rather than the server's
+    /// own copy.
+    pub fn in_frame(&self) -> bool {
+        matches!(self.base.cells, MapCells::Frame { .. })
     }
 
     /// The prepared grid for a robot radius (cached per radius).
-    fn prepared(&self, radius: f32) -> Result<Arc<Prepared>, PlanError> {
+    fn prepared(&self, radius: f32) -> Result<Arc<Prepared<F>>, Failure> {
         if radius == 0.0 {
             return Ok(self.base.clone());
         }
@@ -58,12 +159,13 @@ impl StoredMap {
         if let Some((_, p)) = cache.iter().find(|(k, _)| *k == key) {
             return Ok(p.clone());
         }
-        let mut out = Box::new(WireGrid::new(1, 1).map_err(|_| PlanError::CapacityExceeded)?);
-        self.base
-            .grid
-            .inflate_into(radius, &mut out)
-            .map_err(|_| PlanError::InvalidParameters)?;
-        let p = Arc::new(Prepared::new(out)?);
+        let out = match &self.base.cells {
+            MapCells::Grid(grid) => grid.inflated(radius),
+            // Inflation reads a GridBuf: one whole-word copy of the frame first.
+            MapCells::Frame { .. } => GridBuf::from_view(self.base.view()?).inflated(radius),
+        }
+        .map_err(|_| PlanError::InvalidParameters)?;
+        let p = Arc::new(Prepared::new(MapCells::Grid(out))?);
         if cache.len() >= INFLATED_CACHE {
             cache.remove(0);
         }
@@ -83,12 +185,12 @@ pub enum MapUpdate {
     Rejected(ServiceError),
 }
 
-enum Slot {
-    Ready(Arc<StoredMap>),
+enum Slot<F> {
+    Ready(Arc<StoredMap<F>>),
     Rejected { version: u32, error: ServiceError },
 }
 
-impl Slot {
+impl<F> Slot<F> {
     fn version(&self) -> u32 {
         match self {
             Slot::Ready(m) => m.meta.version,
@@ -98,18 +200,27 @@ impl Slot {
 }
 
 /// Maps by id (newest version only), shared between the receiving thread and the workers.
-pub struct MapStore {
+/// `F`: the frames it may keep ([`NoFrame`]: none).
+pub struct MapStore<F = NoFrame> {
     max_cells: usize,
     max_maps: usize,
-    maps: RwLock<HashMap<u32, Slot>>,
+    maps: RwLock<HashMap<u32, Slot<F>>>,
 }
 
 impl MapStore {
-    /// A store accepting maps of at most `max_cells` cells (capped at the frame capacity)
-    /// and at most `max_maps` map ids.
+    /// A store accepting maps of at most `max_cells` cells (the frames' decoders,
+    /// [`grid_from_bits`](crate::wire::grid_from_bits) and
+    /// [`frame_grid`](crate::wire::frame_grid), apply it) and at most `max_maps` map ids.
     pub fn new(max_cells: usize, max_maps: usize) -> Self {
+        Self::keeping_frames(max_cells, max_maps)
+    }
+}
+
+impl<F: FrameWords> MapStore<F> {
+    /// Like [`MapStore::new`], for a store that may keep received frames of type `F`.
+    pub fn keeping_frames(max_cells: usize, max_maps: usize) -> Self {
         MapStore {
-            max_cells: max_cells.min(MAP_CAPACITY_CELLS),
+            max_cells,
             max_maps: max_maps.max(1),
             maps: RwLock::new(HashMap::new()),
         }
@@ -121,7 +232,37 @@ impl MapStore {
     }
 
     /// Takes a map version: `grid` is the decoded frame or the decoding error.
-    pub fn update(&self, meta: MapMeta, grid: Result<Box<WireGrid>, ServiceError>) -> MapUpdate {
+    pub fn update(&self, meta: MapMeta, grid: Result<GridBuf, ServiceError>) -> MapUpdate {
+        self.update_decoded(meta, grid, 0.0)
+    }
+
+    /// Like [`update`](Self::update), also recording how long decoding the frame into
+    /// `grid` took (microseconds; map-status answers report it).
+    pub fn update_decoded(
+        &self,
+        meta: MapMeta,
+        grid: Result<GridBuf, ServiceError>,
+        decode_us: f32,
+    ) -> MapUpdate {
+        self.update_cells(meta, grid.map(MapCells::Grid), decode_us)
+    }
+
+    /// Whether a frame of `meta` would be stored (no newer or equal version held): a
+    /// receiver may skip checking an outdated frame.
+    pub fn is_newer(&self, meta: &MapMeta) -> bool {
+        let maps = self.maps.read().unwrap_or_else(|p| p.into_inner());
+        maps.get(&meta.map_id)
+            .is_none_or(|slot| slot.version() < meta.version)
+    }
+
+    /// Takes a map version whose cells are in the server's memory or in a kept frame (see
+    /// [`update_decoded`](Self::update_decoded)).
+    pub fn update_cells(
+        &self,
+        meta: MapMeta,
+        grid: Result<MapCells<F>, ServiceError>,
+        decode_us: f32,
+    ) -> MapUpdate {
         {
             let maps = self.maps.read().unwrap_or_else(|p| p.into_inner());
             if let Some(slot) = maps.get(&meta.map_id)
@@ -131,9 +272,10 @@ impl MapStore {
             }
         }
         // Prepare (labels) outside the lock: workers keep planning on the old version.
-        let slot = match grid.and_then(|g| Prepared::new(g).map_err(|_| ServiceError::Internal)) {
+        let slot = match grid.and_then(Prepared::new) {
             Ok(prepared) => Slot::Ready(Arc::new(StoredMap {
                 meta,
+                decode_us,
                 base: Arc::new(prepared),
                 inflated: Mutex::new(Vec::new()),
             })),
@@ -163,7 +305,7 @@ impl MapStore {
     }
 
     /// The map a request names, or why it cannot be used.
-    pub fn lookup(&self, map_id: u32, version: u32) -> Result<Arc<StoredMap>, ServiceError> {
+    pub fn lookup(&self, map_id: u32, version: u32) -> Result<Arc<StoredMap<F>>, ServiceError> {
         let maps = self.maps.read().unwrap_or_else(|p| p.into_inner());
         match maps.get(&map_id) {
             None => Err(ServiceError::UnknownMap),
@@ -179,9 +321,8 @@ impl MapStore {
 /// warmed up to the largest map).
 pub struct Scratch {
     planner: HostPlanner,
-    /// The prepared grid the planner's labels belong to (by address; the `Arc` keeps it
-    /// alive, so the address cannot be reused while it is held).
-    prepared_for: Option<Arc<Prepared>>,
+    /// The prepared grid the planner's labels belong to ([`Prepared`]'s id).
+    prepared_for: Option<u64>,
     path: Box<Path<MAX_WAYPOINTS>>,
 }
 
@@ -196,16 +337,23 @@ impl Default for Scratch {
 }
 
 /// The planning engine: a map store and the planner dispatch.
-pub struct Engine {
+pub struct Engine<F = NoFrame> {
     /// The maps.
-    pub store: MapStore,
+    pub store: MapStore<F>,
 }
 
 impl Engine {
     /// An engine over a fresh store.
     pub fn new(max_cells: usize, max_maps: usize) -> Self {
+        Self::keeping_frames(max_cells, max_maps)
+    }
+}
+
+impl<F: FrameWords> Engine<F> {
+    /// An engine over a fresh store that may keep received frames of type `F`.
+    pub fn keeping_frames(max_cells: usize, max_maps: usize) -> Self {
         Engine {
-            store: MapStore::new(max_cells, max_maps),
+            store: MapStore::keeping_frames(max_cells, max_maps),
         }
     }
 
@@ -239,7 +387,7 @@ impl Engine {
             let (w, h) = map.size();
             return Ok(PlanOk {
                 path: Vec::new(),
-                length: 0.0,
+                length: map.decode_us,
                 turns: w as u32,
                 evaluations: h as u32,
             });
@@ -260,28 +408,25 @@ impl Engine {
 
 /// Runs one planner. Swarm planners and ACO poll `cancelled` once per iteration (a client
 /// that gave up stops the work; the caller then answers `Cancelled`).
-fn run_planner(
+fn run_planner<F: FrameWords>(
     algorithm: Algorithm,
-    prepared: &Arc<Prepared>,
+    prepared: &Prepared<F>,
     scratch: &mut Scratch,
     req: &PlanRequest,
     cancelled: &mut dyn FnMut() -> bool,
-) -> Result<PlanOk, PlanError> {
-    let grid = prepared.grid.view();
+) -> Result<PlanOk, Failure> {
+    let grid = prepared.view()?;
     // The start is checked against the map before the goal is converted, so that a start
     // outside the map is reported as such whatever the goal (as the planners do).
     let start = to_cell(req.start, PlanError::StartOutsideMap)?;
     if start.x as usize >= grid.width() || start.y as usize >= grid.height() {
-        return Err(PlanError::StartOutsideMap);
+        return Err(PlanError::StartOutsideMap.into());
     }
     let goal = to_cell(req.goal, PlanError::GoalOutsideMap)?;
-    if !scratch
-        .prepared_for
-        .as_ref()
-        .is_some_and(|p| Arc::ptr_eq(p, prepared))
-    {
+    if scratch.prepared_for != Some(prepared.id) {
+        scratch.prepared_for = None;
         scratch.planner.prepare(grid)?;
-        scratch.prepared_for = Some(prepared.clone());
+        scratch.prepared_for = Some(prepared.id);
     }
     let defaults = PlanParams::new(AlgorithmKind::Tclhho);
     let count = |v: f32, default: usize| if v == 0.0 { default } else { v as usize };
@@ -342,8 +487,8 @@ mod tests {
         }
     }
 
-    fn grid(rows: &[u8]) -> Result<Box<WireGrid>, ServiceError> {
-        Ok(Box::new(WireGrid::parse_rows(rows).unwrap()))
+    fn grid(rows: &[u8]) -> Result<GridBuf, ServiceError> {
+        Ok(GridBuf::parse_rows(rows).unwrap())
     }
 
     #[test]
@@ -369,11 +514,25 @@ mod tests {
             MapUpdate::Rejected(ServiceError::MapTooLarge)
         );
         assert_eq!(e.store.lookup(3, 1).err(), Some(ServiceError::MapTooLarge));
+        // A map-status answer: the size, and the decoding time the receiver recorded.
+        assert_eq!(
+            e.store
+                .update_decoded(meta(4, 1), grid(b"....\n....\n....\n"), 12.5),
+            MapUpdate::Stored
+        );
+        let mut status = PlanRequest::new((4, 1), [0, 0], [0, 0], Algorithm::AStar);
+        status.kind = RequestKind::MapStatus as u8;
+        let ok = e
+            .handle(&mut Scratch::default(), &status, &mut || false)
+            .outcome
+            .unwrap();
+        assert_eq!((ok.turns, ok.evaluations, ok.length), (4, 3, 12.5));
+        assert!(ok.path.is_empty());
     }
 
     #[test]
     fn handle_plans_and_reports_typed_errors() {
-        let e = Engine::new(MAP_CAPACITY_CELLS, 4);
+        let e = Engine::new(crate::wire::DEFAULT_MAX_CELLS, 4);
         e.store.update(meta(1, 1), grid(b"....\n.@@.\n....\n"));
         let mut s = Scratch::default();
         let mut never = || false;

@@ -4,6 +4,14 @@
 //! requests, so a map published before a request is stored before that request is
 //! planned), receives requests and either plans them inline (`workers == 1`, lowest
 //! latency) or hands them to a pool of worker threads, each with its own search scratch.
+//!
+//! Map frames of both layouts are planned on in place: a server planning inline keeps the
+//! received sample while its map version is current (at most
+//! [`MAP_BORROWED_SAMPLES`](crate::services::MAP_BORROWED_SAMPLES)` - 1` frames from one
+//! publisher; further ones are copied). A server with worker threads copies every frame
+//! into its own memory (whole words, both layouts): iceoryx2's thread-safe samples may move
+//! between threads but not be shared by several. Rows-only frames (earlier builds) are
+//! built into a grid as before.
 //! The answer goes back through the request's own `ActiveRequest`; a blocking client is
 //! then woken through its wake event.
 //!
@@ -13,18 +21,23 @@
 //! flag on SIGINT/SIGTERM; queued requests are answered `ServerShuttingDown`, running ones
 //! finish, then the ports close.
 
-use crate::engine::{Engine, MapUpdate, Scratch};
+use crate::engine::{Engine, FrameWords, MapCells, MapUpdate, NoFrame, Scratch};
 use crate::services::{self, Limits, LocalSvc, Names, Svc};
 use crate::wire::{
-    Failure, MapHeader, PlanRequest, PlanResponseHeader, PlanResult, ServiceError, Waypoint,
-    grid_from_bits,
+    Failure, LAYOUT_ROWS, MapHeader, PlanRequest, PlanResponseHeader, PlanResult, ServiceError,
+    Waypoint, first_disagreement, frame_grid, grid_from_bits,
 };
 use iceoryx2::active_request::ActiveRequest;
+use iceoryx2::identifiers::UniquePublisherId;
 use iceoryx2::node::Node;
 use iceoryx2::port::notifier::Notifier;
+use iceoryx2::sample::Sample;
 use iceoryx2::service::Service;
 use iceoryx2::service::port_factory::PortFactory;
+use planner_core::grid::GridBuf;
+use std::cell::Cell;
 use std::collections::HashMap;
+use std::rc::Rc;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::{Arc, Mutex, mpsc};
 use std::time::{Duration, Instant};
@@ -47,7 +60,8 @@ pub struct ServerConfig {
     pub limits: Limits,
     /// Planning threads; `1` plans inline on the port thread.
     pub workers: usize,
-    /// Largest map accepted, in cells (at most the frame capacity).
+    /// Largest map accepted, in cells (`planner-server --max-cells`); larger maps are
+    /// refused with [`ServiceError::MapTooLarge`], logged, and the answer names the limit.
     pub max_cells: usize,
     /// Map ids kept at once.
     pub max_maps: usize,
@@ -57,6 +71,10 @@ pub struct ServerConfig {
     pub tick: Duration,
     /// How long to spin before sleeping in blocking mode.
     pub spin: Duration,
+    /// Check that the two layouts of every received frame agree (`--verify-maps`; a frame
+    /// whose layouts disagree is rejected with [`ServiceError::InvalidRequest`] and logged
+    /// with the first cell that differs). Costs a transposition of the map per frame.
+    pub verify_maps: bool,
 }
 
 impl Default for ServerConfig {
@@ -65,11 +83,12 @@ impl Default for ServerConfig {
             names: Names::new("planner"),
             limits: Limits::default(),
             workers: 1,
-            max_cells: crate::wire::MAP_CAPACITY_CELLS,
+            max_cells: crate::wire::DEFAULT_MAX_CELLS,
             max_maps: 16,
             mode: WaitMode::Blocking,
             tick: Duration::from_millis(50),
             spin: Duration::from_micros(200),
+            verify_maps: false,
         }
     }
 }
@@ -78,11 +97,11 @@ type Active<S> = ActiveRequest<S, PlanRequest, (), [Waypoint], PlanResponseHeade
 type Jobs<S> = Arc<Mutex<mpsc::Receiver<(Active<S>, Option<Instant>)>>>;
 
 /// State shared by the port thread and the workers.
-struct Shared<S: Service> {
+struct Shared<S: Service, F = NoFrame> {
     node: Node<S>,
     names: Names,
     limits: Limits,
-    engine: Engine,
+    engine: Engine<F>,
     wakers: Mutex<HashMap<u64, Waker<S>>>,
     served: AtomicU64,
     cancelled: AtomicU64,
@@ -97,10 +116,11 @@ struct Waker<S: Service> {
 pub fn run(config: &ServerConfig, shutdown: &AtomicBool) -> anyhow::Result<()> {
     if config.workers > 1 {
         // Active requests cross to the workers: thread-safe ports.
-        serve_ports::<Svc>(config, shutdown, Some(spawn_workers))
+        serve_ports::<Svc, NoFrame>(config, shutdown, Some(spawn_workers))
     } else {
-        // One thread owns everything: single-threaded ports, no mutex per port call.
-        serve_ports::<LocalSvc>(config, shutdown, None)
+        // One thread owns everything: single-threaded ports, no mutex per port call, and
+        // map frames planned on where they lie.
+        serve_ports::<LocalSvc, Held>(config, shutdown, None)
     }
 }
 
@@ -121,15 +141,85 @@ fn spawn_workers(
 }
 
 /// Starts `workers` planning threads on the job queue.
-type SpawnWorkers<S> =
-    fn(&Arc<Shared<S>>, &Jobs<S>, usize) -> std::io::Result<Vec<std::thread::JoinHandle<()>>>;
+type SpawnWorkers<S, F> =
+    fn(&Arc<Shared<S, F>>, &Jobs<S>, usize) -> std::io::Result<Vec<std::thread::JoinHandle<()>>>;
 
-/// The serving loop on ports of flavour `S`; with `spawn`, `config.workers` threads plan,
-/// without it the port thread plans each request inline.
-fn serve_ports<S: Service>(
+/// A received map frame.
+type MapSample<S> = Sample<S, [u32], MapHeader>;
+
+/// How a server on ports of flavour `S` keeps received frames of both layouts.
+trait Keep<S: Service>: FrameWords + Sized {
+    /// The frame kept as it is, or handed back to be copied.
+    fn keep(sample: MapSample<S>, holds: &mut Holds) -> Result<Self, MapSample<S>>;
+}
+
+impl<S: Service> Keep<S> for NoFrame {
+    fn keep(sample: MapSample<S>, _: &mut Holds) -> Result<Self, MapSample<S>> {
+        Err(sample)
+    }
+}
+
+/// A frame a server planning inline keeps while its map version is current.
+struct Held {
+    sample: MapSample<LocalSvc>,
+    _count: HeldCount,
+}
+
+impl FrameWords for Held {
+    fn words(&self) -> &[u32] {
+        self.sample.payload()
+    }
+}
+
+impl Keep<LocalSvc> for Held {
+    fn keep(sample: MapSample<LocalSvc>, holds: &mut Holds) -> Result<Self, MapSample<LocalSvc>> {
+        match holds.hold(sample.origin()) {
+            Some(count) => Ok(Held {
+                sample,
+                _count: count,
+            }),
+            None => Err(sample),
+        }
+    }
+}
+
+/// The frames kept per publisher: iceoryx2 lets a subscriber borrow at most `limit`
+/// samples from one publisher at once, and one must stay free to receive the next frame.
+struct Holds {
+    limit: usize,
+    per_publisher: HashMap<UniquePublisherId, Rc<Cell<usize>>>,
+}
+
+impl Holds {
+    /// A count for one more kept frame of `publisher`, or `None` when it would leave no
+    /// borrow free.
+    fn hold(&mut self, publisher: UniquePublisherId) -> Option<HeldCount> {
+        // Forget publishers none of whose frames is kept any more.
+        self.per_publisher.retain(|_, c| c.get() > 0);
+        let count = self.per_publisher.entry(publisher).or_default();
+        if count.get() + 1 >= self.limit {
+            return None;
+        }
+        count.set(count.get() + 1);
+        Some(HeldCount(count.clone()))
+    }
+}
+
+/// One kept frame in its publisher's count (released with the frame).
+struct HeldCount(Rc<Cell<usize>>);
+
+impl Drop for HeldCount {
+    fn drop(&mut self) {
+        self.0.set(self.0.get().saturating_sub(1));
+    }
+}
+
+/// The serving loop on ports of flavour `S`, keeping frames as `F`; with `spawn`,
+/// `config.workers` threads plan, without it the port thread plans each request inline.
+fn serve_ports<S: Service, F: Keep<S>>(
     config: &ServerConfig,
     shutdown: &AtomicBool,
-    spawn: Option<SpawnWorkers<S>>,
+    spawn: Option<SpawnWorkers<S, F>>,
 ) -> anyhow::Result<()> {
     let node = services::node::<S>("planner-server")?;
     let cleaned = services::cleanup_dead_nodes(&node);
@@ -143,11 +233,27 @@ fn serve_ports<S: Service>(
         config.limits.max_clients,
         cleaned
     );
-    let map_service = services::map_service(&node, &config.names, &config.limits)?;
+    let (map_service, recorded) =
+        services::map_service_for_server(&node, &config.names, &config.limits, config.max_cells)?;
+    if recorded != Some(config.max_cells as u64) {
+        // Clients refuse maps above the recorded limit before sending; this server decides.
+        log::warn!(
+            "the map service {:?} was created before this server with {}; clients check maps against that, this server accepts up to {} cells",
+            config.names.prefix,
+            recorded.map_or("no size limit recorded".to_string(), |c| format!(
+                "a limit of {c} cells"
+            )),
+            config.max_cells
+        );
+    }
     let subscriber = map_service
         .subscriber_builder()
         .create()
         .map_err(|e| anyhow::anyhow!("map subscriber: {e:?}"))?;
+    let mut holds = Holds {
+        limit: services::map_borrow_limit(&map_service),
+        per_publisher: HashMap::new(),
+    };
     let plan_service = services::plan_service_create(&node, &config.names, &config.limits)?;
     let server = plan_service
         .server_builder()
@@ -160,11 +266,14 @@ fn serve_ports<S: Service>(
         .create()
         .map_err(|e| anyhow::anyhow!("wake listener: {e:?}"))?;
 
+    // With kept frames (single-threaded ports) `Shared` is neither `Send` nor `Sync` and
+    // stays on this thread; the `Arc` is for the worker pool of the other flavour.
+    #[allow(clippy::arc_with_non_send_sync)]
     let shared = Arc::new(Shared {
         node,
         names: config.names.clone(),
         limits: config.limits.clone(),
-        engine: Engine::new(config.max_cells, config.max_maps),
+        engine: Engine::keeping_frames(config.max_cells, config.max_maps),
         wakers: Mutex::new(HashMap::new()),
         served: AtomicU64::new(0),
         cancelled: AtomicU64::new(0),
@@ -190,7 +299,7 @@ fn serve_ports<S: Service>(
         // less for the pass that sees it. A blocking server sleeps between passes.
         let look_for_maps =
             config.mode == WaitMode::Blocking || passes.is_multiple_of(BUSY_PASSES_PER_MAP_POLL);
-        let mut busy = look_for_maps && drain_maps(&shared, &subscriber)?;
+        let mut busy = look_for_maps && drain_maps(&shared, &subscriber, &mut holds, config)?;
         while let Some(active) = server
             .receive()
             .map_err(|e| anyhow::anyhow!("receive: {e:?}"))?
@@ -199,7 +308,7 @@ fn serve_ports<S: Service>(
             // Only a request with a deadline needs the time of its receipt.
             let now = (active.payload().deadline_us > 0).then(Instant::now);
             // A map published before this request may have landed after the drain above.
-            drain_maps(&shared, &subscriber)?;
+            drain_maps(&shared, &subscriber, &mut holds, config)?;
             if workers > 1 {
                 if tx.send((active, now)).is_err() {
                     anyhow::bail!("worker pool stopped");
@@ -259,9 +368,11 @@ fn serve_ports<S: Service>(
 const BUSY_PASSES_PER_MAP_POLL: u32 = 16;
 
 /// Stores every map frame waiting in the subscriber; returns whether there was any.
-fn drain_maps<S: Service>(
-    shared: &Shared<S>,
+fn drain_maps<S: Service, F: Keep<S>>(
+    shared: &Shared<S, F>,
     subscriber: &iceoryx2::port::subscriber::Subscriber<S, [u32], MapHeader>,
+    holds: &mut Holds,
+    config: &ServerConfig,
 ) -> anyhow::Result<bool> {
     let mut any = false;
     while let Some(sample) = subscriber
@@ -271,43 +382,97 @@ fn drain_maps<S: Service>(
         any = true;
         let frame = *sample.user_header();
         let meta = frame.meta();
+        let store = &shared.engine.store;
+        if !store.is_newer(&meta) {
+            log::debug!(
+                "map {} version {} ignored: not newer than the stored one",
+                meta.map_id,
+                meta.version
+            );
+            continue;
+        }
+        let words = sample.payload().len();
         let began = Instant::now();
-        let grid = grid_from_bits(
-            frame.width,
-            frame.height,
-            sample.payload(),
-            shared.engine.store.max_cells(),
-        );
-        drop(sample);
-        let result = shared.engine.store.update(meta, grid);
+        let (cells, how) = take_frame(sample, &frame, store.max_cells(), holds, config);
+        let decode_us = began.elapsed().as_secs_f32() * 1e6;
+        let result = store.update_cells(meta, cells, decode_us);
         match result {
             MapUpdate::Stored => log::info!(
-                "map {} version {} stored: {}x{} cells, resolution {} m, origin {:?} ({:.0} us)",
+                "map {} version {} stored: {}x{} cells, resolution {} m, origin {:?} ({how} in {:.0} us)",
                 meta.map_id,
                 meta.version,
                 frame.width,
                 frame.height,
                 meta.resolution,
                 meta.origin,
-                began.elapsed().as_secs_f64() * 1e6
+                decode_us
             ),
             MapUpdate::Outdated => log::debug!(
                 "map {} version {} ignored: not newer than the stored one",
                 meta.map_id,
                 meta.version
             ),
+            MapUpdate::Rejected(ServiceError::MapTooLarge) => log::warn!(
+                "map {} version {} rejected: MapTooLarge: {} x {} = {} cells, this server's limit is {} cells (sides at most 65535); raise it with planner-server --max-cells",
+                meta.map_id,
+                meta.version,
+                frame.width,
+                frame.height,
+                u64::from(frame.width) * u64::from(frame.height),
+                store.max_cells()
+            ),
             MapUpdate::Rejected(e) => log::warn!(
-                "map {} version {} rejected: {} ({}x{} cells, limit {})",
+                "map {} version {} rejected: {} ({} x {} cells, layout {}, {} words sent{})",
                 meta.map_id,
                 meta.version,
                 e,
                 frame.width,
                 frame.height,
-                shared.engine.store.max_cells()
+                frame.layout,
+                words,
+                how
             ),
         }
     }
     Ok(any)
+}
+
+/// Makes a received frame usable: a rows-only frame is built into a grid (and the sample
+/// returned), a frame of both layouts is checked and kept as it is when `F` can, else
+/// copied (whole words). The second value says which, for the log.
+fn take_frame<S: Service, F: Keep<S>>(
+    sample: MapSample<S>,
+    frame: &MapHeader,
+    max_cells: usize,
+    holds: &mut Holds,
+    config: &ServerConfig,
+) -> (Result<MapCells<F>, ServiceError>, String) {
+    let (w, h) = (frame.width as usize, frame.height as usize);
+    if frame.layout == LAYOUT_ROWS {
+        let grid = grid_from_bits(frame.width, frame.height, sample.payload(), max_cells);
+        return (grid.map(MapCells::Grid), "built from rows".into());
+    }
+    if let Err(e) = frame_grid(frame, sample.payload(), max_cells) {
+        return (Err(e), String::new());
+    }
+    if config.verify_maps {
+        let (rows, columns) = sample.payload().split_at(frame.words());
+        if let Some((x, y)) = first_disagreement(w, h, rows, columns) {
+            let detail = format!("; its layouts disagree first at cell ({x}, {y})");
+            return (Err(ServiceError::InvalidRequest), detail);
+        }
+    }
+    let verified = if config.verify_maps { ", verified" } else { "" };
+    match F::keep(sample, holds) {
+        Ok(kept) => (
+            MapCells::frame(kept, w, h),
+            format!("kept in place{verified}"),
+        ),
+        Err(sample) => {
+            let copied = frame_grid(frame, sample.payload(), max_cells).map(GridBuf::from_view);
+            (copied.map(MapCells::Grid), format!("copied{verified}"))
+        }
+    }
 }
 
 fn worker(shared: &Shared<Svc>, rx: &Mutex<mpsc::Receiver<(Active<Svc>, Option<Instant>)>>) {
@@ -325,8 +490,8 @@ fn worker(shared: &Shared<Svc>, rx: &Mutex<mpsc::Receiver<(Active<Svc>, Option<I
 }
 
 /// Plans one request and answers it (unless the client gave up).
-fn serve<S: Service>(
-    shared: &Shared<S>,
+fn serve<S: Service, F: FrameWords>(
+    shared: &Shared<S, F>,
     scratch: &mut Scratch,
     active: Active<S>,
     received: Option<Instant>,
@@ -368,8 +533,8 @@ fn serve<S: Service>(
     shared.served.fetch_add(1, Ordering::Relaxed);
 }
 
-fn respond<S: Service>(
-    shared: &Shared<S>,
+fn respond<S: Service, F: FrameWords>(
+    shared: &Shared<S, F>,
     active: Active<S>,
     request: &PlanRequest,
     result: &PlanResult,
@@ -382,7 +547,8 @@ fn respond<S: Service>(
         );
         return;
     }
-    let header = PlanResponseHeader::new(request, result);
+    let mut header = PlanResponseHeader::new(request, result);
+    header.set_map_limit(shared.engine.store.max_cells());
     let path = match &result.outcome {
         Ok(ok) => &ok.path[..header.waypoints as usize],
         Err(_) => &[],
@@ -414,7 +580,7 @@ fn respond<S: Service>(
 }
 
 /// Notifies a blocking client's wake event (opened once per client token, cached).
-fn wake<S: Service>(shared: &Shared<S>, token: u64) {
+fn wake<S: Service, F: FrameWords>(shared: &Shared<S, F>, token: u64) {
     let mut wakers = shared.wakers.lock().unwrap_or_else(|p| p.into_inner());
     if !wakers.contains_key(&token) {
         // A new client: forget the events of clients that are gone (no listener left), so

@@ -6,8 +6,12 @@ mod common;
 
 use common::*;
 use planner_core::PlanError;
-use planner_ipc::client::{ClientError, parse_map};
-use planner_ipc::wire::{Algorithm, MapHeader, PlanParams, PlanRequest, RequestKind, ServiceError};
+use planner_core::grid::GridBuf;
+use planner_ipc::client::{ClientError, MapTooLarge, Refusal, parse_map};
+use planner_ipc::wire::{
+    Algorithm, LAYOUT_ROWS, LAYOUT_ROWS_AND_COLUMNS, MapHeader, MapMeta, PlanParams, PlanRequest,
+    RequestKind, ServiceError,
+};
 use std::process::Command;
 use std::time::{Duration, Instant};
 
@@ -39,8 +43,9 @@ fn garbage_fields_get_typed_errors() {
         height,
         resolution: f32::NAN,
         origin: [f32::INFINITY, f32::NAN],
-        reserved: 0xdead_beef,
+        layout: LAYOUT_ROWS,
     };
+    let with_layout = |header: MapHeader, layout: u32| MapHeader { layout, ..header };
     let frames: Vec<(MapHeader, Vec<u32>, ServiceError)> = vec![
         // 64 x 64 cells need 128 words; 3 sent.
         (
@@ -63,24 +68,63 @@ fn garbage_fields_get_typed_errors() {
             ServiceError::MapTooLarge,
         ),
         (frame(15, 400, 300), vec![0; 8], ServiceError::MapTooLarge),
+        // Layouts: unknown; both announced but only the rows (or less) sent.
+        (
+            with_layout(frame(17, 4, 4), 0xdead_beef),
+            vec![0; 8],
+            ServiceError::InvalidRequest,
+        ),
+        (
+            with_layout(frame(18, 64, 64), LAYOUT_ROWS_AND_COLUMNS),
+            vec![0; 128],
+            ServiceError::InvalidRequest,
+        ),
+        (
+            with_layout(frame(19, 64, 64), LAYOUT_ROWS_AND_COLUMNS),
+            vec![0; 255],
+            ServiceError::InvalidRequest,
+        ),
+        (
+            with_layout(frame(20, 400, 300), LAYOUT_ROWS_AND_COLUMNS),
+            vec![0; 7500],
+            ServiceError::MapTooLarge,
+        ),
     ];
     for (header, words, want) in &frames {
+        // Raw frames are sent as they are (no client-side check): the server judges them.
         c.publish_map(header, words).unwrap();
+        let want = match want {
+            ServiceError::MapTooLarge => ClientError::MapTooLarge(MapTooLarge {
+                size: Some((header.width, header.height)),
+                max_cells: Some(100_000),
+                refused_by: Refusal::Server,
+            }),
+            other => ClientError::Service(*other),
+        };
         assert_eq!(
             c.wait_for_map(header.map_id, 1, T),
-            Err(ClientError::Service(*want)),
+            Err(want),
             "{header:?} with {} words",
             words.len()
         );
         assert_eq!(c.plan(&good, T).as_ref(), Ok(&ok), "server stopped serving");
     }
-    // NaN metadata is informational only: a frame with enough words is stored.
+    // NaN metadata is informational only: a frame with enough words is stored, in either
+    // layout.
     c.publish_map(&frame(16, 4, 4), &[0]).unwrap();
     c.wait_for_map(16, 1, T).unwrap();
-    assert!(
-        c.plan(&req((16, 1), [0, 0], [3, 3], Algorithm::AStar), T)
-            .is_ok()
-    );
+    c.publish_map(
+        &with_layout(frame(21, 4, 4), LAYOUT_ROWS_AND_COLUMNS),
+        &[0, 0],
+    )
+    .unwrap();
+    c.wait_for_map(21, 1, T).unwrap();
+    for id in [16, 21] {
+        assert!(
+            c.plan(&req((id, 1), [0, 0], [3, 3], Algorithm::AStar), T)
+                .is_ok()
+        );
+    }
 
     let with = |f: &dyn Fn(&mut PlanRequest)| {
         let mut r = good;
@@ -95,7 +139,7 @@ fn garbage_fields_get_typed_errors() {
             service(ServiceError::UnknownAlgorithm),
         ),
         (
-            with(&|r| r.algorithm = 13),
+            with(&|r| r.algorithm = 14),
             service(ServiceError::UnknownAlgorithm),
         ),
         (
@@ -207,26 +251,55 @@ fn typed_errors_while_the_server_keeps_serving() {
         assert!(c.plan(&r, T).is_ok(), "server stopped serving");
     };
 
-    // A map beyond the server's configured capacity: 400 x 300 = 120,000 cells.
+    // A map beyond the server's configured limit: 400 x 300 = 120,000 cells. The map
+    // service records the limit (the server created it), so the client refuses before
+    // sending, naming the limit and the flag that raises it.
+    assert_eq!(c.map_limit(), Ok(Some(100_000)));
     let big = dir.join("big.map");
     write_map(&big, 400, 300, |x, y| x % 7 == 3 && y % 5 != 0);
-    let v2 = c.upload_map_file(&big, 2).unwrap();
+    let refused = c.upload_map_file(&big, 2).unwrap_err();
     assert_eq!(
-        c.wait_for_map(2, v2, T),
-        Err(ClientError::Service(ServiceError::MapTooLarge))
+        refused,
+        ClientError::MapTooLarge(MapTooLarge {
+            size: Some((400, 300)),
+            max_cells: Some(100_000),
+            refused_by: Refusal::Client,
+        })
     );
     assert_eq!(
-        c.plan(&req((2, v2), [0, 0], [1, 1], Algorithm::AStar), T),
-        Err(ClientError::Service(ServiceError::MapTooLarge))
+        refused.to_string(),
+        "map 400 x 300 (120000 cells) exceeds the planner service's limit of 100000 cells; \
+         start planner-server with --max-cells 120000 or more to accept it (not sent)"
     );
+    // The same frame sent anyway (as a client of an older build would): the server refuses
+    // it, logs it, and its answers name the limit.
+    let grid = parse_map(&std::fs::read(&big).unwrap()).unwrap();
+    let mut words = Vec::new();
+    let meta = MapMeta {
+        map_id: 2,
+        version: 1,
+        resolution: 1.0,
+        origin: [0.0; 2],
+    };
+    let header = planner_ipc::wire::pack_map(meta, grid.view(), &mut words);
+    c.publish_map(&header, &words).unwrap();
+    let by_server = ClientError::MapTooLarge(MapTooLarge {
+        size: Some((400, 300)),
+        max_cells: Some(100_000),
+        refused_by: Refusal::Server,
+    });
+    assert_eq!(c.wait_for_map(2, 1, T), Err(by_server.clone()));
+    assert_eq!(
+        c.plan(&req((2, 1), [0, 0], [1, 1], Algorithm::AStar), T),
+        Err(by_server.clone())
+    );
+    assert_eq!(
+        by_server.to_string(),
+        "map 400 x 300 (120000 cells) exceeds the planner server's limit of 100000 cells; \
+         start planner-server with --max-cells 120000 or more to accept it"
+    );
+    assert_eq!(by_server.name(), "MapTooLarge");
     still_serving(&mut c, (1, v1));
-    // A map beyond the frame's capacity never leaves the client.
-    let huge = dir.join("huge.map");
-    write_map(&huge, 600, 600, |_, _| false);
-    assert_eq!(
-        c.upload_map_file(&huge, 3),
-        Err(ClientError::Service(ServiceError::MapTooLarge))
-    );
 
     // Stale and unknown map versions.
     let v1b = c.upload_map_file(&data(WAREHOUSE), 1).unwrap();
@@ -321,7 +394,12 @@ fn typed_errors_while_the_server_keeps_serving() {
     assert!(exit.success(), "{exit:?}\n{}", server.log_text());
     let log = server.log_text();
     assert!(log.contains("planner-server stopped"), "{log}");
-    assert!(log.contains("rejected: MapTooLarge"), "{log}");
+    assert!(
+        log.contains(
+            "map 2 version 1 rejected: MapTooLarge: 400 x 300 = 120000 cells, this server's limit is 100000 cells"
+        ) && log.contains("raise it with planner-server --max-cells"),
+        "{log}"
+    );
     // Without a server the client reports it (no hang).
     drop(c);
     let mut c = client(&p);
@@ -481,5 +559,282 @@ fn client_churn_leaves_no_descriptors_behind() {
     assert!(
         after <= before + 6,
         "descriptors grew with client churn: {before} -> {after}"
+    );
+}
+
+/// A 4096 x 4096 map: a clear diagonal, scattered pallets off it, a wall along the far
+/// end of the last row and one down the last column (so that the frame's last words
+/// matter).
+fn large_map() -> GridBuf {
+    let side = 4096;
+    let mut grid = GridBuf::new(side, side).unwrap();
+    grid.view_mut()
+        .fill_rows(|y, words| {
+            for (i, word) in words.iter_mut().enumerate() {
+                for bit in 0..32 {
+                    let x = 32 * i + bit;
+                    let pallet = (x * 7 + y * 13).is_multiple_of(997) && x.abs_diff(y) > 2;
+                    let wall = (y == side - 1 && (4000..4090).contains(&x))
+                        || (x == side - 1 && (10..100).contains(&y));
+                    if pallet || wall {
+                        *word |= 1 << bit;
+                    }
+                }
+            }
+        })
+        .unwrap();
+    grid
+}
+
+/// A 4096 x 4096 map (a 2 MiB frame) goes through the map service, packed in place into
+/// shared memory, and is planned on: every sampled cell (the first and last words of the
+/// frame included) is blocked on the server exactly when it is here, and A* from corner to
+/// corner answers all 4096 cells of the diagonal (more than the 2048 waypoints an answer
+/// carried before).
+#[test]
+fn a_4096_map_is_served_and_planned_on() {
+    let p = prefix("large");
+    let server = start_server(&p, &[]);
+    let mut c = client(&p);
+    assert_eq!(c.map_limit(), Ok(Some(4096 * 4096)));
+    let grid = large_map();
+    let meta = MapMeta {
+        map_id: 1,
+        version: 1,
+        resolution: 0.05,
+        origin: [0.0; 2],
+    };
+    c.upload_map(meta, grid.view()).unwrap();
+    c.wait_for_map(1, 1, Duration::from_secs(30)).unwrap();
+    let view = grid.view();
+    let mut samples: Vec<(usize, usize)> = vec![(0, 0), (4095, 4095), (4050, 4095), (4095, 50)];
+    samples.extend((0..1500).map(|i| ((i * 2731 + 17) % 4096, (i * 1237 + 5) % 4096)));
+    // The first obstacle of every 41st row and its neighbours, where a shifted bit would show.
+    for y in (0..4096).step_by(41) {
+        if let Some(x) = (0..4096usize).find(|&x| view.is_blocked(x as isize, y as isize)) {
+            samples.extend([(x, y), (x.saturating_sub(1), y), ((x + 1).min(4095), y)]);
+        }
+    }
+    let blocked = samples
+        .iter()
+        .filter(|&&(x, y)| view.is_blocked(x as isize, y as isize))
+        .count();
+    assert!(blocked > 100 && blocked < samples.len() - 100, "{blocked}");
+    for &(x, y) in &samples {
+        let cell = [x as i32, y as i32];
+        let got = c.plan(&req((1, 1), cell, cell, Algorithm::AStar), T);
+        if view.is_blocked(x as isize, y as isize) {
+            assert_eq!(
+                got,
+                Err(ClientError::Plan(PlanError::StartOccupied)),
+                "{x},{y}"
+            );
+        } else {
+            assert_eq!(got.map(|ok| ok.path.len()), Ok(1), "{x},{y}");
+        }
+    }
+    let diagonal = c
+        .plan(
+            &req((1, 1), [0, 0], [4095, 4095], Algorithm::AStar),
+            Duration::from_secs(60),
+        )
+        .unwrap();
+    assert_eq!(diagonal.path.len(), 4096);
+    assert!(
+        diagonal
+            .path
+            .iter()
+            .enumerate()
+            .all(|(i, p)| (p.x, p.y) == (i as f32, i as f32))
+    );
+    assert!(
+        // The planner sums the steps in f32.
+        (diagonal.length / (4095.0 * std::f32::consts::SQRT_2) - 1.0).abs() < 1e-4,
+        "{}",
+        diagonal.length
+    );
+    let log = server.log_text();
+    assert!(
+        log.contains("map 1 version 1 stored: 4096x4096 cells"),
+        "{log}"
+    );
+    // Planned on where it was published (the frame of both layouts is kept, not copied).
+    assert!(log.contains("(kept in place in "), "{log}");
+}
+
+/// Above the default limit (4096 x 4096 cells) the client refuses before sending, and a
+/// frame sent anyway is refused by the server; both errors name the limit and the flag
+/// that raises it, and the server logs its refusal.
+#[test]
+fn a_map_over_the_default_limit_gets_a_typed_error_naming_the_limit() {
+    let p = prefix("overlimit");
+    let server = start_server(&p, &[]);
+    let mut c = client(&p);
+    let over = GridBuf::new(4097, 4096).unwrap();
+    let meta = MapMeta {
+        map_id: 5,
+        version: 1,
+        resolution: 0.05,
+        origin: [0.0; 2],
+    };
+    let refused = c.upload_map(meta, over.view()).unwrap_err();
+    assert_eq!(
+        refused,
+        ClientError::MapTooLarge(MapTooLarge {
+            size: Some((4097, 4096)),
+            max_cells: Some(4096 * 4096),
+            refused_by: Refusal::Client,
+        })
+    );
+    assert_eq!(
+        refused.to_string(),
+        "map 4097 x 4096 (16781312 cells) exceeds the planner service's limit of 16777216 cells \
+         (4096 x 4096); start planner-server with --max-cells 16781312 or more to accept it \
+         (not sent)"
+    );
+    let header = MapHeader {
+        map_id: 5,
+        version: 1,
+        width: 4097,
+        height: 4096,
+        resolution: 0.05,
+        origin: [0.0; 2],
+        layout: LAYOUT_ROWS,
+    };
+    c.publish_map(&header, &vec![0; header.words()]).unwrap();
+    let by_server = c.wait_for_map(5, 1, T).unwrap_err();
+    assert_eq!(
+        by_server,
+        ClientError::MapTooLarge(MapTooLarge {
+            size: Some((4097, 4096)),
+            max_cells: Some(4096 * 4096),
+            refused_by: Refusal::Server,
+        })
+    );
+    assert!(by_server.to_string().contains("--max-cells 16781312"));
+    // The server goes on serving.
+    let v = c.upload_map_file(&data(WAREHOUSE), 1).unwrap();
+    c.wait_for_map(1, v, T).unwrap();
+    assert!(
+        c.plan(&req((1, v), [143, 57], [10, 16], Algorithm::AStar), T)
+            .is_ok()
+    );
+    let log = server.log_text();
+    assert!(
+        log.contains(
+            "map 5 version 1 rejected: MapTooLarge: 4097 x 4096 = 16781312 cells, this server's limit is 16777216 cells"
+        ),
+        "{log}"
+    );
+}
+
+/// A map written in place into a loaned frame is planned on where it lies, and goes on
+/// being planned on after its publisher is gone (the server holds the frame while the
+/// version is current). A frame whose two layouts disagree is stored and planned on as sent
+/// by default (each planner reads the layout it reads) and refused, naming the first cell
+/// that differs, by a server started with `--verify-maps`; both servers keep serving.
+#[test]
+fn kept_frames_outlive_their_publisher_and_verify_maps_checks_layouts() {
+    let p = prefix("kept");
+    let server = start_server(&p, &[]);
+    let meta = |map_id| MapMeta {
+        map_id,
+        version: 1,
+        resolution: 0.05,
+        origin: [0.0; 2],
+    };
+    // A wall along row 15 of a 40 x 30 map, open at column 39.
+    let wall = |x: usize, y: usize| y == 15 && x < 39;
+    {
+        let mut publisher = client(&p);
+        let mut loan = publisher.loan_map(meta(1), 40, 30).unwrap();
+        {
+            let mut grid = loan.grid();
+            for (x, y) in (0..40).flat_map(|x| (0..30).map(move |y| (x, y))) {
+                grid.set_blocked(x, y, wall(x, y)).unwrap();
+            }
+        }
+        loan.publish().unwrap();
+        publisher.wait_for_map(1, 1, T).unwrap();
+    }
+    let mut c = client(&p);
+    let around = c
+        .plan(&req((1, 1), [5, 0], [5, 29], Algorithm::ThetaStar), T)
+        .unwrap();
+    assert!(around.length > 60.0, "{:?}", around.path);
+    assert!(around.path.iter().any(|p| p.x >= 38.0), "{:?}", around.path);
+    assert_eq!(
+        c.plan(&req((1, 1), [5, 15], [5, 0], Algorithm::AStar), T),
+        Err(ClientError::Plan(PlanError::StartOccupied))
+    );
+    let log = server.log_text();
+    assert!(
+        log.contains("map 1 version 1 stored: 40x30 cells") && log.contains("kept in place"),
+        "{log}"
+    );
+
+    // Rows with the wall, columns left all free (a raw writer that forgot them).
+    let n = (40 * 30usize).div_ceil(32);
+    let mut words = vec![0u32; 2 * n];
+    for i in (0..40 * 30).filter(|i| wall(i % 40, i / 40)) {
+        words[i / 32] |= 1 << (i % 32);
+    }
+    let header = MapHeader {
+        map_id: 2,
+        version: 1,
+        width: 40,
+        height: 30,
+        resolution: 0.05,
+        origin: [0.0; 2],
+        layout: LAYOUT_ROWS_AND_COLUMNS,
+    };
+    c.publish_map(&header, &words).unwrap();
+    c.wait_for_map(2, 1, T).unwrap();
+    // Stored and planned on as sent: the rows block (5, 15).
+    assert_eq!(
+        c.plan(&req((2, 1), [5, 15], [5, 0], Algorithm::AStar), T),
+        Err(ClientError::Plan(PlanError::StartOccupied))
+    );
+    assert!(
+        c.plan(&req((2, 1), [5, 0], [5, 29], Algorithm::ThetaStar), T)
+            .is_ok()
+    );
+
+    let pv = prefix("verify");
+    let verifying = start_server(&pv, &["--verify-maps"]);
+    let mut v = client(&pv);
+    v.publish_map(&header, &words).unwrap();
+    assert_eq!(
+        v.wait_for_map(2, 1, T),
+        Err(ClientError::Service(ServiceError::InvalidRequest))
+    );
+    let log = verifying.log_text();
+    assert!(
+        log.contains("map 2 version 1 rejected: InvalidRequest")
+            && log.contains("its layouts disagree first at cell (0, 15)"),
+        "{log}"
+    );
+    // Both layouts written: accepted, verified.
+    for i in (0..40 * 30).filter(|i| wall(i % 40, i / 40)) {
+        let j = (i % 40) * 30 + i / 40;
+        words[n + j / 32] |= 1 << (j % 32);
+    }
+    v.publish_map(
+        &MapHeader {
+            version: 2,
+            ..header
+        },
+        &words,
+    )
+    .unwrap();
+    v.wait_for_map(2, 2, T).unwrap();
+    assert!(verifying.log_text().contains("verified"));
+    let around = v
+        .plan(&req((2, 2), [5, 0], [5, 29], Algorithm::ThetaStar), T)
+        .unwrap();
+    assert!(around.length > 60.0, "{:?}", around.path);
+    assert!(
+        c.plan(&req((1, 1), [0, 0], [39, 29], Algorithm::AStar), T)
+            .is_ok()
     );
 }

@@ -1,6 +1,7 @@
 //! The planner service's request handling with arbitrary payload bytes, below the
 //! transport: what `planner-server` does with a received map frame (`MapHeader` user
-//! header + word slice -> `grid_from_bits` -> `MapStore::update`) and a received
+//! header + word slice -> `grid_from_bits` for rows-only frames, `frame_grid` (+ the copy a
+//! server with workers makes) for frames of both layouts -> `MapStore::update`) and a received
 //! `PlanRequest` (`Engine::handle` -> `PlanResponseHeader::new` + waypoints -> the client's
 //! `decode`), plus the postcard forms a byte-stream peer decodes (`MapMsg`, `PlanRequest`,
 //! `PlanResult`).
@@ -22,11 +23,13 @@
 use arbitrary::Unstructured;
 use libfuzzer_sys::fuzz_target;
 use planner_core::PlanError;
+use planner_core::grid::GridBuf;
 use planner_core::path;
 use planner_ipc::engine::{Engine, MapUpdate, Scratch};
 use planner_ipc::wire::{
-    Algorithm, Failure, MapHeader, MapMsg, PlanParams, PlanRequest, PlanResponseHeader, PlanResult,
-    RequestKind, ServiceError, WireGrid, decode_status, grid_from_bits, to_cell,
+    Algorithm, Failure, LAYOUT_ROWS, LAYOUT_ROWS_AND_COLUMNS, MapHeader, MapMsg, PlanParams,
+    PlanRequest, PlanResponseHeader, PlanResult, RequestKind, ServiceError, decode_status,
+    first_disagreement, frame_grid, grid_from_bits, to_cell,
 };
 use std::cell::RefCell;
 use std::collections::HashMap;
@@ -67,7 +70,11 @@ fn map_header(b: &[u8; 32]) -> MapHeader {
         height: u32_at(b, 12),
         resolution: f32_at(b, 16),
         origin: [f32_at(b, 20), f32_at(b, 24)],
-        reserved: u32_at(b, 28),
+        // Mostly the two known layouts, sometimes garbage.
+        layout: match u32_at(b, 28) {
+            l if l < 0x8000_0000 => l % 2,
+            l => l,
+        },
     }
 }
 
@@ -102,27 +109,60 @@ fn plan_request(b: &[u8; 104]) -> PlanRequest {
 
 /// What the harness knows of the store: per map id the newest version and either the base
 /// grid or the rejection.
-type Model = HashMap<u32, (u32, Result<Box<WireGrid>, ServiceError>)>;
+type Model = HashMap<u32, (u32, Result<GridBuf, ServiceError>)>;
 
 fn frame(engine: &Engine, model: &mut Model, header: &MapHeader, words: &[u32]) {
     let (w, h) = (header.width as usize, header.height as usize);
-    let grid = grid_from_bits(header.width, header.height, words, engine.store.max_cells());
+    let max = engine.store.max_cells();
+    let layouts = match header.layout {
+        LAYOUT_ROWS => 1,
+        LAYOUT_ROWS_AND_COLUMNS => 2,
+        _ => 0,
+    };
+    let grid = match layouts {
+        1 => grid_from_bits(header.width, header.height, words, max),
+        // The copy a server with worker threads makes (one planning inline keeps the view).
+        _ => frame_grid(header, words, max).map(GridBuf::from_view),
+    };
     let needed = w.checked_mul(h);
     match &grid {
         Ok(g) => {
             let cells = needed.unwrap();
-            assert!(w > 0 && h > 0 && cells <= MAX_CELLS && words.len() >= cells.div_ceil(32));
+            assert!(w > 0 && h > 0 && cells <= MAX_CELLS);
+            let n = cells.div_ceil(32);
+            assert!(layouts > 0 && words.len() >= layouts * n);
             assert_eq!((g.width(), g.height()), (w, h));
             let view = g.view();
             for i in 0..cells {
                 let bit = words[i / 32] >> (i % 32) & 1 == 1;
                 assert_eq!(view.is_blocked((i % w) as isize, (i / w) as isize), bit);
             }
+            if layouts == 2 {
+                // Columns are taken as sent: the view's column runs read them.
+                for x in 0..w {
+                    let sent = (0..h)
+                        .filter(|&y| {
+                            let j = x * h + y;
+                            words[n + j / 32] >> (j % 32) & 1 == 1
+                        })
+                        .count() as u32;
+                    assert_eq!(view.column_run_count(x as isize, 0, h as isize - 1), sent);
+                }
+                let agree = (0..cells).all(|i| {
+                    let (x, y) = (i % w, i / w);
+                    let j = x * h + y;
+                    (words[i / 32] >> (i % 32) & 1) == (words[n + j / 32] >> (j % 32) & 1)
+                });
+                assert_eq!(
+                    first_disagreement(w, h, &words[..n], &words[n..2 * n]).is_none(),
+                    agree
+                );
+            }
         }
         Err(e) => {
-            let expected = if w == 0 || h == 0 {
+            let expected = if layouts == 0 || w == 0 || h == 0 {
                 ServiceError::InvalidRequest
-            } else if needed.is_none_or(|c| c > MAX_CELLS) {
+            } else if w > 65_535 || h > 65_535 || needed.is_none_or(|c| c > MAX_CELLS) {
                 ServiceError::MapTooLarge
             } else {
                 ServiceError::InvalidRequest // too few words for the declared size
@@ -130,7 +170,7 @@ fn frame(engine: &Engine, model: &mut Model, header: &MapHeader, words: &[u32]) 
             assert_eq!(*e, expected, "frame {header:?} with {} words", words.len());
         }
     }
-    let kept = grid.as_ref().map(|g| g.clone()).map_err(|e| *e);
+    let kept = grid.clone();
     let meta = header.meta();
     let newer = model
         .get(&meta.map_id)
@@ -242,9 +282,11 @@ fn request(engine: &Engine, model: &Model, mut req: PlanRequest) {
                 assert_eq!(ok.path.last(), Some(&goal.center()), "{req:?}");
                 assert!(ok.length.is_finite() && ok.length >= 0.0);
                 let alg = Algorithm::from_code(req.algorithm).unwrap();
-                if matches!(alg, Algorithm::AStar | Algorithm::ThetaStar) {
-                    let mut inflated = Box::new(WireGrid::new(1, 1).unwrap());
-                    g.inflate_into(req.params.radius, &mut inflated).unwrap();
+                if matches!(
+                    alg,
+                    Algorithm::AStar | Algorithm::ThetaStar | Algorithm::AnyAngle
+                ) {
+                    let inflated = g.inflated(req.params.radius).unwrap();
                     assert_eq!(
                         path::validate(inflated.view(), &ok.path, start, goal),
                         Ok(()),
@@ -305,12 +347,12 @@ fuzz_target!(|data: &[u8]| {
                         height: msg.height,
                         resolution: msg.meta.resolution,
                         origin: msg.meta.origin,
-                        reserved: 0,
+                        layout: LAYOUT_ROWS,
                     };
                     // `MapMsg::to_grid` is `grid_from_bits` on the same fields.
                     assert_eq!(
-                        msg.to_grid(MAX_CELLS).map(|g| *g),
-                        grid_from_bits(msg.width, msg.height, &msg.bits, MAX_CELLS).map(|g| *g)
+                        msg.to_grid(MAX_CELLS),
+                        grid_from_bits(msg.width, msg.height, &msg.bits, MAX_CELLS)
                     );
                     frame(&engine, &mut model, &header, &msg.bits);
                 }

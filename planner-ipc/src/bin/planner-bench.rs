@@ -2,16 +2,24 @@
 //!
 //! ```text
 //! cargo build --release -p planner-ipc --bins
-//! target/release/planner-bench [--iterations 10000] [--mode busy|blocking]
+//! target/release/planner-bench [--iterations 10000] [--map-updates 100] [--mode busy|blocking]
+//!                              [--only small|large|long]
 //! ```
-//! For a 64x64 and a 340x164 empty map, in busy and blocking modes, it measures:
+//! For a 64x64 and a 340x164 empty map (`small`), in busy and blocking modes, it measures:
 //! - the round trip of a trivial plan (A* from (0,0) to (3,2)): iceoryx2 against the
 //!   `planner-server` binary (spawned from the same directory) and the socket against a
 //!   peer process (this binary, `uds-peer`) running the same engine; both report the
 //!   server-side planning time, so the transport share is printed too;
 //! - publishing a map update: the sender's cost of handing a whole map over (iceoryx2:
 //!   loan + write + send of a map frame (header + used words); socket: postcard encoding + write), and the full
-//!   update until the server confirms it holds the new version.
+//!   update until the server confirms it holds the new version (it has built the planner's
+//!   grid from the frame, so the map is usable).
+//!
+//! `large`: the same on a 4096 x 4096 warehouse (shelf rows, cross aisles, scattered
+//! pallets; a 2 MiB frame), `--map-updates` updates (default 100) and a tenth of the plan
+//! round trips. `long`: a plan answer of 1200 waypoints (A* along the diagonal of an empty
+//! 1200 x 1200 map; both transports pay the same server-side planning, the "of which
+//! transport" row takes it out).
 //!
 //! `planner-bench raw [N]` prints the floors under the plan round trip (see [`raw_floor`]).
 //!
@@ -23,12 +31,14 @@ use anyhow::Context;
 use iceoryx2::prelude::*;
 use iceoryx2::service::port_factory::publish_subscribe::PortFactory as PubSubFactory;
 use iceoryx2::service::port_factory::request_response::PortFactory as ReqRespFactory;
+use planner_core::grid::{GridBuf, GridMut, words_for};
 use planner_ipc::client::{ClientConfig, ClientError, PlannerClient, Wait};
 use planner_ipc::engine::{Engine, Scratch};
 use planner_ipc::services::Names;
 use planner_ipc::wire::{
-    Algorithm, MAP_CAPACITY_CELLS, MapHeader, MapMeta, MapMsg, PlanRequest, PlanResponseHeader,
-    PlanResult, RequestKind, Waypoint, WireGrid,
+    Algorithm, DEFAULT_MAX_CELLS, LAYOUT_ROWS_AND_COLUMNS, MapHeader, MapMeta, MapMsg, PlanRequest,
+    PlanResponseHeader, PlanResult, RequestKind, Waypoint, first_disagreement, frame_grid,
+    frame_header, grid_from_bits, write_grid,
 };
 use serde::{Deserialize, Serialize};
 use std::io::{ErrorKind, Read, Write};
@@ -37,15 +47,49 @@ use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
-#[derive(Serialize, Deserialize)]
+/// What the socket peer receives (decoded into owned values).
+#[derive(Deserialize)]
 enum UdsRequest {
     Map(MapMsg),
     Plan(PlanRequest),
 }
 
+/// What the socket client sends: the same postcard bytes as [`UdsRequest`], serialized from
+/// borrowed words (no copy of the frame before encoding).
+#[derive(Serialize)]
+enum UdsRequestRef<'a> {
+    Map(MapMsgRef<'a>),
+    Plan(PlanRequest),
+}
+
+/// [`MapMsg`] with borrowed words (a slice encodes like a `Vec`).
+#[derive(Serialize)]
+struct MapMsgRef<'a> {
+    meta: MapMeta,
+    width: u32,
+    height: u32,
+    bits: &'a [u32],
+}
+
+impl<'a> MapMsgRef<'a> {
+    fn new(frame: &'a Frame) -> Self {
+        MapMsgRef {
+            meta: frame.header.meta(),
+            width: frame.header.width,
+            height: frame.header.height,
+            // A byte-stream peer sends the rows; the receiver builds its grid from them.
+            bits: &frame.words[..frame.header.words()],
+        }
+    }
+}
+
+/// Socket buffers: a 4096 x 4096 frame encodes to at most 5 bytes a word (2.5 MiB).
+const UDS_BUFFER: usize = 8 << 20;
+
 #[derive(Serialize, Deserialize)]
 enum UdsResponse {
-    MapTaken,
+    /// The map is stored; how long building its grid took (µs).
+    MapTaken(f32),
     Plan(PlanResult),
 }
 
@@ -64,33 +108,117 @@ fn main() -> anyhow::Result<()> {
     if args.first().map(String::as_str) == Some("raw") {
         return raw_floor(args.get(1).map_or(Ok(20_000), |v| v.parse())?);
     }
-    let iterations = match args.iter().position(|a| a == "--iterations") {
-        Some(i) => args.get(i + 1).context("--iterations N")?.parse()?,
-        None => 10_000usize,
+    let value = |name: &str| -> anyhow::Result<Option<&String>> {
+        match args.iter().position(|a| a == name) {
+            Some(i) => Ok(Some(
+                args.get(i + 1).with_context(|| format!("{name} VALUE"))?,
+            )),
+            None => Ok(None),
+        }
     };
+    let iterations: usize = value("--iterations")?.map_or(Ok(10_000), |v| v.parse())?;
+    let map_updates: usize = value("--map-updates")?.map_or(Ok(100), |v| v.parse())?;
+    // `--mode busy|blocking`: only that waiting mode.
+    let only_mode = value("--mode")?.map(|m| m == "busy");
+    let only = value("--only")?.map(String::as_str);
     println!(
         "planner-bench: {iterations} round trips per case; trivial plan = A* (0,0)->(3,2) on an empty map"
     );
     println!(
-        "{:<9} {:<8} {:<26} {:>10} {:>10} {:>10} {:>10} {:>8}",
+        "{:<9} {:<8} {:<36} {:>10} {:>10} {:>10} {:>10} {:>8}",
         "map", "mode", "what", "ipc p50", "ipc p99", "uds p50", "uds p99", "ratio"
     );
-    // `--mode busy|blocking`: only that waiting mode.
-    let only = match args.iter().position(|a| a == "--mode") {
-        Some(i) => Some(args.get(i + 1).context("--mode busy|blocking")?.as_str() == "busy"),
-        None => None,
-    };
-    for (w, h) in [(64usize, 64usize), (340, 164)] {
+    let trivial = PlanRequest::new((1, 1), [0, 0], [3, 2], Algorithm::AStar);
+    let mut cases = Vec::new();
+    if only.is_none_or(|o| o == "small") {
+        for (w, h) in [(64usize, 64usize), (340, 164)] {
+            let grid = GridBuf::new(w, h).map_err(anyhow::Error::msg)?;
+            cases.push(Case {
+                name: format!("{w}x{h}"),
+                frame: Frame::of(grid),
+                request: trivial,
+                plan: "plan round trip",
+                iterations,
+                updates: (iterations / 20).max(50),
+            });
+        }
+    }
+    if only.is_none_or(|o| o == "large") {
+        cases.push(Case {
+            name: "4096x4096".into(),
+            frame: Frame::of(warehouse(4096, 4096)),
+            request: trivial,
+            plan: "plan round trip",
+            iterations: iterations / 10,
+            updates: map_updates,
+        });
+    }
+    if only.is_none_or(|o| o == "long") {
+        let grid = GridBuf::new(1200, 1200).map_err(anyhow::Error::msg)?;
+        cases.push(Case {
+            name: "1200x1200".into(),
+            frame: Frame::of(grid),
+            request: PlanRequest::new((1, 1), [0, 0], [1199, 1199], Algorithm::AStar),
+            plan: "plan, 1200 waypoints",
+            iterations: iterations / 5,
+            updates: 0,
+        });
+    }
+    for case in &mut cases {
         for busy in [true, false] {
-            if only.is_none_or(|b| b == busy) {
-                run_case(w, h, busy, iterations)?;
+            if only_mode.is_none_or(|o| o == busy) {
+                run_case(case, busy)?;
             }
+        }
+        if case.updates > 0 {
+            receiver_costs(case);
         }
     }
     println!(
-        "ratio = iceoryx2 p50 / socket p50 (goals: plan round trip <= 0.4 in busy mode, map publish <= 0.2)"
+        "ratio = iceoryx2 p50 / socket p50 (goals: plan round trip <= 0.4 in busy mode, map publish <= 0.2; 4096x4096 map update <= 0.05; 1200-waypoint plan <= 0.3)"
     );
     Ok(())
+}
+
+/// A generated warehouse: two-cell-deep shelf rows 40 cells long with three-cell aisles,
+/// a five-cell cross aisle every 200 cells, a clear border of 8 cells and a scattered
+/// pallet in about one aisle cell of 600.
+fn warehouse(width: usize, height: usize) -> GridBuf {
+    let mut grid = GridBuf::new(width, height).expect("warehouse size");
+    let mut state = 0x9E37_79B9_7F4A_7C15u64;
+    let _ = grid.view_mut().fill_rows(|y, words| {
+        let shelf_row = y >= 8 && y + 8 < height && y % 5 < 2;
+        for (i, word) in words.iter_mut().enumerate() {
+            for bit in 0..32 {
+                let x = 32 * i + bit;
+                if x >= width {
+                    break;
+                }
+                let inside = x >= 8 && x + 8 < width && y >= 8 && y + 8 < height;
+                let cross = x % 200 < 5 || y % 200 < 5;
+                let shelf = shelf_row && x % 43 < 40;
+                state ^= state << 13;
+                state ^= state >> 7;
+                state ^= state << 17;
+                let pallet = state.is_multiple_of(600);
+                if inside && !cross && (shelf || pallet) {
+                    *word |= 1 << bit;
+                }
+            }
+        }
+    });
+    grid
+}
+
+/// One row group of the table: a map, the plan request to time, how many round trips and
+/// map updates.
+struct Case {
+    name: String,
+    frame: Frame,
+    request: PlanRequest,
+    plan: &'static str,
+    iterations: usize,
+    updates: usize,
 }
 
 struct Kill(Child);
@@ -111,75 +239,155 @@ fn row(map: &str, mode: &str, what: &str, ipc: &mut [f64], uds: &mut [f64]) {
     let (i50, i99) = (percentile(ipc, 0.5), percentile(ipc, 0.99));
     let (u50, u99) = (percentile(uds, 0.5), percentile(uds, 0.99));
     println!(
-        "{map:<9} {mode:<8} {what:<26} {i50:>8.2}us {i99:>8.2}us {u50:>8.2}us {u99:>8.2}us {:>8.3}",
+        "{map:<9} {mode:<8} {what:<36} {i50:>8.2}us {i99:>8.2}us {u50:>8.2}us {u99:>8.2}us {:>8.3}",
         i50 / u50
     );
 }
 
-fn run_case(w: usize, h: usize, busy: bool, iterations: usize) -> anyhow::Result<()> {
+fn run_case(case: &mut Case, busy: bool) -> anyhow::Result<()> {
     let mode = if busy { "busy" } else { "blocking" };
-    let map_name = format!("{w}x{h}");
-    let grid = Box::new(WireGrid::new(w, h).map_err(anyhow::Error::msg)?);
-    let mut words = Vec::new();
-    let header = planner_ipc::wire::pack_map(
-        MapMeta {
+    let warmup = case.iterations / 10 + 10;
+    // One transport at a time: with 2 cores, a spinning idle peer would distort the other.
+    let mut ipc = ipc_phase(case, busy, warmup)?;
+    let mut uds = uds_phase(case, busy, warmup)?;
+    let name = &case.name;
+    if case.iterations > 0 {
+        row(name, mode, case.plan, &mut ipc.rt, &mut uds.rt);
+        row(
+            name,
+            mode,
+            "  of which transport",
+            &mut ipc.net,
+            &mut uds.net,
+        );
+    }
+    if case.updates > 0 {
+        for (how, update) in &mut ipc.updates {
+            let what = format!("map publish, {how} (sender)");
+            row(
+                name,
+                mode,
+                &what,
+                &mut update.publish,
+                &mut uds.update.publish,
+            );
+            let what = format!("  until usable, {how}");
+            row(name, mode, &what, &mut update.full, &mut uds.update.full);
+            let what = format!("    of which transport, {how}");
+            row(name, mode, &what, &mut update.net, &mut uds.update.net);
+        }
+    }
+    Ok(())
+}
+
+/// Map updates: the sender's publish, until the server confirms it can plan on the new
+/// version (a map-status answer), and that without the receiver's work on the frame (both
+/// servers report it: building the grid, or checking the frame and, if not kept, copying).
+#[derive(Default)]
+struct Updates {
+    publish: Vec<f64>,
+    full: Vec<f64>,
+    net: Vec<f64>,
+}
+
+/// Plan round trips, their transport share (without server-side planning), map updates.
+#[derive(Default)]
+struct Samples {
+    rt: Vec<f64>,
+    net: Vec<f64>,
+    update: Updates,
+}
+
+/// The iceoryx2 side: the map updates three ways.
+struct IpcSamples {
+    rt: Vec<f64>,
+    net: Vec<f64>,
+    updates: Vec<(&'static str, Updates)>,
+}
+
+/// A map frame as published: both layouts (rows, then columns), and the grid.
+struct Frame {
+    header: MapHeader,
+    words: Vec<u32>,
+    grid: GridBuf,
+}
+
+impl Frame {
+    fn of(grid: GridBuf) -> Self {
+        let meta = MapMeta {
             map_id: 1,
             version: 1,
             resolution: 0.05,
             origin: [0.0, 0.0],
-        },
-        grid.view(),
-        &mut words,
-    )
-    .map_err(anyhow::Error::msg)?;
-    let mut frame = Frame { header, words };
-    let warmup = iterations / 10 + 10;
-    let updates = (iterations / 20).max(50);
-    // One transport at a time: with 2 cores, a spinning idle peer would distort the other.
-    let ipc = ipc_phase(&mut frame, busy, warmup, iterations, updates)?;
-    let uds = uds_phase(&mut frame, busy, warmup, iterations, updates)?;
-    let [mut i_rt, mut i_net, mut i_pub, mut i_full] = ipc;
-    let [mut u_rt, mut u_net, mut u_pub, mut u_full] = uds;
-    row(&map_name, mode, "plan round trip", &mut i_rt, &mut u_rt);
-    row(
-        &map_name,
-        mode,
-        "  of which transport",
-        &mut i_net,
-        &mut u_net,
-    );
-    row(
-        &map_name,
-        mode,
-        "map publish (sender)",
-        &mut i_pub,
-        &mut u_pub,
-    );
-    row(
-        &map_name,
-        mode,
-        "map update until stored",
-        &mut i_full,
-        &mut u_full,
-    );
-    Ok(())
+        };
+        let (w, h) = (grid.width(), grid.height());
+        let n = words_for(w, h);
+        let mut words = vec![0u32; 2 * n];
+        let (rows, columns) = words.split_at_mut(n);
+        let mut out = GridMut::from_words(w, h, rows, columns).expect("frame size");
+        write_grid(grid.view(), &mut out).expect("same size");
+        let header = frame_header(meta, w, h, LAYOUT_ROWS_AND_COLUMNS);
+        Frame {
+            header,
+            words,
+            grid,
+        }
+    }
 }
 
-type Samples = [Vec<f64>; 4];
-
-/// A map frame as published: header and used words.
-struct Frame {
-    header: MapHeader,
-    words: Vec<u32>,
+/// What the receiver does with a frame, in this process (p50 / p99 of 20): the view of a
+/// frame of both layouts (the server's work when it keeps the frame), the layout check of
+/// `planner-server --verify-maps`, the copy when it does not keep the frame, and building
+/// the grid from the rows (what a rows-only frame, and the socket peer, cost).
+fn receiver_costs(case: &Case) {
+    let frame = &case.frame;
+    let header = &frame.header;
+    let (w, h, n) = (
+        header.width as usize,
+        header.height as usize,
+        header.words(),
+    );
+    let measure = |what: &str, f: &mut dyn FnMut() -> bool| {
+        let mut t: Vec<f64> = (0..20)
+            .map(|_| {
+                let (ok, t) = timed(&mut *f);
+                assert!(ok, "{what}");
+                t
+            })
+            .collect();
+        println!(
+            "{:<9} receiver {what:<36} {:>8.2}us {:>8.2}us",
+            case.name,
+            percentile(&mut t, 0.5),
+            percentile(&mut t, 0.99)
+        );
+    };
+    let words = &frame.words;
+    measure("view of both layouts", &mut || {
+        frame_grid(header, words, DEFAULT_MAX_CELLS).is_ok()
+    });
+    measure("layout check (--verify-maps)", &mut || {
+        first_disagreement(w, h, &words[..n], &words[n..]).is_none()
+    });
+    measure("copy of both layouts", &mut || {
+        frame_grid(header, words, DEFAULT_MAX_CELLS)
+            .map(GridBuf::from_view)
+            .is_ok()
+    });
+    measure("grid built from rows", &mut || {
+        grid_from_bits(header.width, header.height, &words[..n], DEFAULT_MAX_CELLS).is_ok()
+    });
 }
 
-fn ipc_phase(
-    frame: &mut Frame,
-    busy: bool,
-    warmup: usize,
-    iterations: usize,
-    updates: usize,
-) -> anyhow::Result<Samples> {
+/// How long `f` takes, microseconds.
+fn timed<T>(f: impl FnOnce() -> T) -> (T, f64) {
+    let began = Instant::now();
+    let value = f();
+    (value, began.elapsed().as_secs_f64() * 1e6)
+}
+
+fn ipc_phase(case: &mut Case, busy: bool, warmup: usize) -> anyhow::Result<IpcSamples> {
+    let (frame, iterations, updates_wanted) = (&mut case.frame, case.iterations, case.updates);
     let mode = if busy { "busy" } else { "blocking" };
     let prefix = format!(
         "bench-{}-{}x{}-{mode}",
@@ -215,9 +423,15 @@ fn ipc_phase(
     frame.header.version = 1;
     client.publish_map(&frame.header, &frame.words)?;
     client.wait_for_map(1, 1, Duration::from_secs(10))?;
-    let request = PlanRequest::new((1, 1), [0, 0], [3, 2], Algorithm::AStar);
+    let request = case.request;
     let (mut rt, mut net) = (Vec::new(), Vec::new());
-    for i in 0..warmup + iterations {
+    // No warm-up either when the case times no plans.
+    let rounds = if iterations == 0 {
+        0
+    } else {
+        warmup + iterations
+    };
+    for i in 0..rounds {
         let began = Instant::now();
         let (_, server_us) = client.plan_raw(&request, Duration::from_secs(5))?;
         let t = began.elapsed().as_secs_f64() * 1e6;
@@ -226,29 +440,62 @@ fn ipc_phase(
             net.push(t - server_us as f64);
         }
     }
-    let (mut publish, mut full) = (Vec::new(), Vec::new());
     let mut status = PlanRequest::new((1, 0), [0, 0], [0, 0], Algorithm::AStar);
     status.kind = RequestKind::MapStatus as u8;
-    for version in 2..updates as u32 + 2 {
-        frame.header.version = version;
-        let began = Instant::now();
-        client.publish_map(&frame.header, &frame.words)?;
-        let published = began.elapsed().as_secs_f64() * 1e6;
-        status.map_version = version;
-        client.plan(&status, Duration::from_secs(5))?;
-        publish.push(published);
-        full.push(began.elapsed().as_secs_f64() * 1e6);
+    let mut updates: Vec<(&'static str, Updates)> = ["copy", "in place", "upload_map"]
+        .into_iter()
+        .map(|how| (how, Updates::default()))
+        .collect();
+    let base = frame.header.meta();
+    let meta = |version| MapMeta { version, ..base };
+    let (w, h) = (frame.header.width as usize, frame.header.height as usize);
+    let mut version = 1;
+    for _ in 0..updates_wanted {
+        // The three ways in turn, so that they share the machine's state.
+        for (how, samples) in &mut updates {
+            version += 1;
+            let (publish, began) = match *how {
+                // Ready words (both layouts) copied into the loan: loan + copy + send.
+                "copy" => {
+                    frame.header.version = version;
+                    let (sent, t) = timed(|| client.publish_map(&frame.header, &frame.words));
+                    sent?;
+                    (t, Instant::now() - Duration::from_secs_f64(t / 1e6))
+                }
+                // Written where it is published: the loan (zeroed) and the send are timed,
+                // not the caller writing its map (a socket sender writes its own grid too).
+                "in place" => {
+                    let (loan, t_loan) = timed(|| client.loan_map(meta(version), w, h));
+                    let mut loan = loan?;
+                    let (rows, columns) = loan.words_mut();
+                    let n = rows.len();
+                    rows.copy_from_slice(&frame.words[..n]);
+                    columns.copy_from_slice(&frame.words[n..]);
+                    let began = Instant::now();
+                    loan.publish()?;
+                    let t = t_loan + began.elapsed().as_secs_f64() * 1e6;
+                    (t, began - Duration::from_secs_f64(t_loan / 1e6))
+                }
+                // From a GridRef: rows by words, columns rebuilt by transposition.
+                _ => {
+                    let (sent, t) = timed(|| client.upload_map(meta(version), frame.grid.view()));
+                    sent?;
+                    (t, Instant::now() - Duration::from_secs_f64(t / 1e6))
+                }
+            };
+            status.map_version = version;
+            let stored = client.plan(&status, Duration::from_secs(5))?;
+            let t = began.elapsed().as_secs_f64() * 1e6;
+            samples.publish.push(publish);
+            samples.full.push(t);
+            samples.net.push(t - stored.length as f64);
+        }
     }
-    Ok([rt, net, publish, full])
+    Ok(IpcSamples { rt, net, updates })
 }
 
-fn uds_phase(
-    frame: &mut Frame,
-    busy: bool,
-    warmup: usize,
-    iterations: usize,
-    updates: usize,
-) -> anyhow::Result<Samples> {
+fn uds_phase(case: &mut Case, busy: bool, warmup: usize) -> anyhow::Result<Samples> {
+    let (frame, iterations, updates) = (&mut case.frame, case.iterations, case.updates);
     let mode = if busy { "busy" } else { "blocking" };
     let sock = std::env::temp_dir().join(format!(
         "planner-bench-{}-{}x{}-{mode}.sock",
@@ -264,18 +511,24 @@ fn uds_phase(
     );
     let mut stream = connect(&sock)?;
     stream.set_nonblocking(busy)?;
-    let mut buf = vec![0u8; 1 << 20];
+    let mut buf = vec![0u8; UDS_BUFFER];
     frame.header.version = 1;
     uds_call(
         &mut stream,
-        &UdsRequest::Map(MapMsg::new(&frame.header, &frame.words)),
+        &UdsRequestRef::Map(MapMsgRef::new(frame)),
         &mut buf,
     )?;
-    let request = PlanRequest::new((1, 1), [0, 0], [3, 2], Algorithm::AStar);
+    let request = case.request;
     let (mut rt, mut net) = (Vec::new(), Vec::new());
-    for i in 0..warmup + iterations {
+    // No warm-up either when the case times no plans.
+    let rounds = if iterations == 0 {
+        0
+    } else {
+        warmup + iterations
+    };
+    for i in 0..rounds {
         let began = Instant::now();
-        let reply = uds_call(&mut stream, &UdsRequest::Plan(request), &mut buf)?;
+        let reply = uds_call(&mut stream, &UdsRequestRef::Plan(request), &mut buf)?;
         let t = began.elapsed().as_secs_f64() * 1e6;
         let UdsResponse::Plan(result) = reply else {
             anyhow::bail!("unexpected socket reply");
@@ -286,21 +539,28 @@ fn uds_phase(
             net.push(t - result.time_us as f64);
         }
     }
-    let (mut publish, mut full) = (Vec::new(), Vec::new());
+    let mut update = Updates::default();
     for version in 2..updates as u32 + 2 {
         frame.header.version = version;
         let began = Instant::now();
         // The socket has to carry bytes: encoding the frame is part of publishing it.
-        let msg = MapMsg::new(&frame.header, &frame.words);
-        uds_send(&mut stream, &UdsRequest::Map(msg), &mut buf)?;
+        uds_send(
+            &mut stream,
+            &UdsRequestRef::Map(MapMsgRef::new(frame)),
+            &mut buf,
+        )?;
         let published = began.elapsed().as_secs_f64() * 1e6;
-        let _: UdsResponse = uds_recv(&mut stream, &mut buf)?;
-        publish.push(published);
-        full.push(began.elapsed().as_secs_f64() * 1e6);
+        let UdsResponse::MapTaken(decode_us) = uds_recv(&mut stream, &mut buf)? else {
+            anyhow::bail!("unexpected socket reply");
+        };
+        let t = began.elapsed().as_secs_f64() * 1e6;
+        update.publish.push(published);
+        update.full.push(t);
+        update.net.push(t - decode_us as f64);
     }
     drop(stream);
     let _ = std::fs::remove_file(&sock);
-    Ok([rt, net, publish, full])
+    Ok(Samples { rt, net, update })
 }
 
 fn connect(path: &Path) -> anyhow::Result<UnixStream> {
@@ -318,7 +578,7 @@ fn connect(path: &Path) -> anyhow::Result<UnixStream> {
 
 fn uds_call(
     stream: &mut UnixStream,
-    request: &UdsRequest,
+    request: &UdsRequestRef<'_>,
     buf: &mut [u8],
 ) -> anyhow::Result<UdsResponse> {
     uds_send(stream, request, buf)?;
@@ -379,9 +639,9 @@ fn uds_peer(path: &Path, busy: bool) -> anyhow::Result<()> {
     let listener = UnixListener::bind(path)?;
     let (mut stream, _) = listener.accept()?;
     stream.set_nonblocking(busy)?;
-    let engine = Engine::new(MAP_CAPACITY_CELLS, 4);
+    let engine = Engine::new(DEFAULT_MAX_CELLS, 4);
     let mut scratch = Scratch::default();
-    let mut buf = vec![0u8; 1 << 20];
+    let mut buf = vec![0u8; UDS_BUFFER];
     loop {
         let request: UdsRequest = match uds_recv(&mut stream, &mut buf) {
             Ok(r) => r,
@@ -389,9 +649,12 @@ fn uds_peer(path: &Path, busy: bool) -> anyhow::Result<()> {
         };
         let reply = match request {
             UdsRequest::Map(msg) => {
+                // As planner-server: the time to build the grid from the received frame.
+                let began = Instant::now();
                 let grid = msg.to_grid(engine.store.max_cells());
-                engine.store.update(msg.meta, grid);
-                UdsResponse::MapTaken
+                let decode_us = began.elapsed().as_secs_f32() * 1e6;
+                engine.store.update_decoded(msg.meta, grid, decode_us);
+                UdsResponse::MapTaken(decode_us)
             }
             UdsRequest::Plan(req) => {
                 UdsResponse::Plan(engine.handle(&mut scratch, &req, &mut || false))

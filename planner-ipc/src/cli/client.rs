@@ -1,24 +1,38 @@
-//! `planner-client`: upload a Moving AI `.map` to a running `planner-server` and request
-//! plans, printing the same JSON lines as `host-sim plan`.
+//! `planner-client`: upload a map file to a running `planner-server` and request plans,
+//! printing the same JSON lines as `host-sim plan`.
 //!
 //! ```text
-//! planner-client [--prefix P] [--busy] upload --map FILE.map [--map-id 1]
-//! planner-client [--prefix P] [--busy] plan --map FILE.map [--map-id 1] --algo astar|theta
-//!                (--queries Q.txt | --start X,Y --goal X,Y) [--seed N] [--radius R]
+//! planner-client [--prefix P] [--busy] upload --map FILE.map|FILE.yaml [--map-id 1] [--unknown blocked|free]
+//! planner-client [--prefix P] [--busy] plan --map FILE.map|FILE.yaml [--map-id 1] --algo NAME
+//!                (--queries Q.txt | --start X,Y --goal X,Y) [--frame cells|world]
+//!                [--seed N] [--radius R | --robot-radius M] [--unknown blocked|free]
 //!                [--timeout-ms 1000] [--out RESULTS.jsonl]
 //! ```
+//! Maps are read by the loader every `host-sim` command uses (`planner-mapfile`: Moving AI
+//! `.map`, ROS `map_server` YAML + PGM/PNG), up to the size the planner service takes. A
+//! ROS map's resolution and origin go with the upload; `--frame world` takes starts, goals
+//! and queries in metres in the map frame, and paths come back in cells and metres.
 //! `plan` uploads the map first (the publisher keeps it for late servers while it lives),
 //! waits until the server holds it, then sends one request per query.
+//!
+//! Exit status: 0 when every query was answered (a query's own failure is a JSON line), 2
+//! for bad input (a map, query file or option that cannot be used), 1 when the service
+//! cannot be reached.
 
-use crate::client::{ClientConfig, ClientError, PlannerClient, Wait};
-use crate::jsonl::{self, PathLine};
+use crate::client::{ClientConfig, ClientError, MapTooLarge, PlannerClient, Refusal, Wait};
+use crate::jsonl::{self, Endpoint, ErrorLine, LineContext, PathLine, Query, QueryLine};
 use crate::services::Names;
-use crate::wire::{Algorithm, PlanParams, PlanRequest};
+use crate::wire::{Algorithm, MapMeta, PlanParams, PlanRequest};
 use anyhow::Context;
 use clap::{Parser, Subcommand};
+use planner_mapfile::frame::parse_point;
+use planner_mapfile::{Frame, LoadedMap, MapLoadError, MapOptions, Unknown, load_map};
 use std::io::{BufWriter, Write};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
+
+/// Exit status for bad input (a map, query file or option that cannot be used).
+pub const EXIT_BAD_INPUT: u8 = 2;
 
 #[derive(Parser)]
 #[command(
@@ -41,63 +55,158 @@ struct Cli {
 enum Command {
     /// Publish a map and wait until the server holds it.
     Upload {
-        /// Moving AI `.map` file.
+        /// Moving AI `.map` or ROS map_server `.yaml` (PGM/PNG image) file.
         #[arg(long)]
         map: PathBuf,
         /// Map id.
         #[arg(long, default_value_t = 1)]
         map_id: u32,
+        /// Unknown space of a ROS map: blocked or free.
+        #[arg(long, value_enum, default_value_t = Unknown::Blocked)]
+        unknown: Unknown,
         /// How long to wait for the server, milliseconds.
         #[arg(long, default_value_t = 5000)]
         wait_ms: u64,
     },
     /// Upload a map and plan queries on it; one JSON object per query.
-    Plan {
-        /// Moving AI `.map` file.
-        #[arg(long)]
-        map: PathBuf,
-        /// Map id.
-        #[arg(long, default_value_t = 1)]
-        map_id: u32,
-        /// File of queries, one `sx sy gx gy` a line.
-        #[arg(long, required_unless_present = "start", conflicts_with_all = ["start", "goal"])]
-        queries: Option<PathBuf>,
-        /// Start cell `X,Y`.
-        #[arg(long, value_parser = parse_xy, requires = "goal")]
-        start: Option<(i64, i64)>,
-        /// Goal cell `X,Y`.
-        #[arg(long, value_parser = parse_xy, requires = "start")]
-        goal: Option<(i64, i64)>,
-        /// Planner name (`astar`, `theta`; unknown names reach the server and come back
-        /// as `UnknownAlgorithm`).
-        #[arg(long, default_value = "astar")]
-        algo: String,
-        /// Seed (stochastic planners).
-        #[arg(long, default_value_t = 0)]
-        seed: u64,
-        /// Robot radius in cells.
-        #[arg(long, default_value_t = 0.0)]
-        radius: f32,
-        /// Per-request timeout, milliseconds.
-        #[arg(long, default_value_t = 1000)]
-        timeout_ms: u64,
-        /// Write results here instead of standard output.
-        #[arg(long)]
-        out: Option<PathBuf>,
-    },
+    Plan(PlanArgs),
 }
 
-fn parse_xy(text: &str) -> Result<(i64, i64), String> {
-    let (x, y) = text.split_once(',').ok_or("expected X,Y")?;
-    let num = |s: &str| s.trim().parse::<i64>().map_err(|e| format!("{s:?}: {e}"));
-    Ok((num(x)?, num(y)?))
+#[derive(clap::Args)]
+struct PlanArgs {
+    /// Moving AI `.map` or ROS map_server `.yaml` (PGM/PNG image) file.
+    #[arg(long)]
+    map: PathBuf,
+    /// Map id.
+    #[arg(long, default_value_t = 1)]
+    map_id: u32,
+    /// File of queries, one `sx sy gx gy` a line (cells, or metres with `--frame world`).
+    #[arg(long, required_unless_present = "start", conflicts_with_all = ["start", "goal"])]
+    queries: Option<PathBuf>,
+    /// Start `X,Y` (a cell, or metres with `--frame world`).
+    #[arg(long, requires = "goal", allow_hyphen_values = true)]
+    start: Option<String>,
+    /// Goal `X,Y` (a cell, or metres with `--frame world`).
+    #[arg(long, requires = "start", allow_hyphen_values = true)]
+    goal: Option<String>,
+    /// What starts, goals and queries are in: cells, or metres in the map frame (a ROS map).
+    #[arg(long, value_enum, default_value_t = Frame::Cells)]
+    frame: Frame,
+    /// Planner name (`astar`, `theta`, `anyangle`, swarm planners; unknown names reach the
+    /// server and come back as `UnknownAlgorithm`).
+    #[arg(long, default_value = "astar")]
+    algo: String,
+    /// Seed (stochastic planners).
+    #[arg(long, default_value_t = 0)]
+    seed: u64,
+    /// Inflation of the map by a robot radius, in cells.
+    #[arg(long, conflicts_with = "robot_radius")]
+    radius: Option<f32>,
+    /// Robot radius in metres (a ROS map): cells whose centre lies within it of an
+    /// obstacle are blocked for planning.
+    #[arg(long)]
+    robot_radius: Option<f64>,
+    /// Unknown space of a ROS map: blocked or free.
+    #[arg(long, value_enum, default_value_t = Unknown::Blocked)]
+    unknown: Unknown,
+    /// Per-request timeout, milliseconds.
+    #[arg(long, default_value_t = 1000)]
+    timeout_ms: u64,
+    /// Write results here instead of standard output.
+    #[arg(long)]
+    out: Option<PathBuf>,
 }
 
-/// The binary's entry point (also linked into test binaries).
+/// Bad input: exit status [`EXIT_BAD_INPUT`].
+#[derive(Debug)]
+struct BadInput(String);
+
+impl std::fmt::Display for BadInput {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for BadInput {}
+
+fn bad(text: impl Into<String>) -> anyhow::Error {
+    BadInput(text.into()).into()
+}
+
+/// `X,Y` in the frame asked for: integers for cells, numbers for metres.
+fn endpoint(text: &str, frame: Frame, what: &str) -> anyhow::Result<Endpoint> {
+    let [x, y] = parse_point(text).map_err(|e| bad(format!("--{what} {text}: {e}")))?;
+    match frame {
+        Frame::World => Ok(Endpoint::World([x, y])),
+        Frame::Cells if x.fract() == 0.0 && y.fract() == 0.0 && x.abs() < 1e15 => {
+            Ok(Endpoint::Cell(x as i64, y as i64))
+        }
+        Frame::Cells => Err(bad(format!(
+            "--{what} {text}: cells are integers (--frame world takes metres)"
+        ))),
+    }
+}
+
+/// Loads `path` with the shared loader, within the map service's limit; a map over it is
+/// the client's [`MapTooLarge`], named with the file.
+fn load(client: &mut PlannerClient, path: &Path, unknown: Unknown) -> anyhow::Result<LoadedMap> {
+    let limit = client.map_limit()?;
+    let options = MapOptions {
+        max_cells: limit.map_or(usize::MAX, |c| usize::try_from(c).unwrap_or(usize::MAX)),
+        unknown,
+    };
+    load_map(path, &options).map_err(|e| match e {
+        MapLoadError::TooLarge { width, height, .. } => {
+            let side = |v: usize| u32::try_from(v).unwrap_or(u32::MAX);
+            let refused = MapTooLarge {
+                size: Some((side(width), side(height))),
+                max_cells: limit,
+                refused_by: Refusal::Client,
+            };
+            bad(format!("{}: {refused}", path.display()))
+        }
+        other => bad(other.to_string()),
+    })
+}
+
+/// Publishes `map` as `map_id` (version 1 for this process) and waits until it is served.
+fn upload(
+    client: &mut PlannerClient,
+    map: &LoadedMap,
+    map_id: u32,
+    wait: Duration,
+) -> anyhow::Result<u32> {
+    let version = 1;
+    let cell0 = map.frame.to_world(0.0, 0.0);
+    let meta = MapMeta {
+        map_id,
+        version,
+        resolution: map.frame.resolution as f32,
+        // The world position of cell (0, 0)'s centre.
+        origin: [cell0[0] as f32, cell0[1] as f32],
+    };
+    client.upload_map(meta, map.grid.view())?;
+    client
+        .wait_for_map(map_id, version, wait)
+        .context("the server did not take the map")?;
+    Ok(version)
+}
+
+/// The binary's entry point (also linked into test binaries). Bad input exits with
+/// [`EXIT_BAD_INPUT`] after the client is dropped (its iceoryx2 node removed).
 pub fn main() -> anyhow::Result<()> {
     env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("warn")).init();
     crate::services::quiet_iceoryx_logs();
-    let cli = Cli::parse();
+    match run(Cli::parse()) {
+        Err(e) if e.downcast_ref::<BadInput>().is_some() => {
+            eprintln!("Error: {e:#}");
+            std::process::exit(EXIT_BAD_INPUT.into())
+        }
+        other => other,
+    }
+}
+
+fn run(cli: Cli) -> anyhow::Result<()> {
     let config = ClientConfig {
         names: Names::new(&cli.prefix),
         wait: if cli.busy {
@@ -112,110 +221,133 @@ pub fn main() -> anyhow::Result<()> {
         Command::Upload {
             map,
             map_id,
+            unknown,
             wait_ms,
         } => {
-            let version = client.upload_map_file(&map, map_id)?;
-            client
-                .wait_for_map(map_id, version, Duration::from_millis(wait_ms))
-                .context("the server did not take the map")?;
+            let loaded = load(&mut client, &map, unknown)?;
+            let version = upload(&mut client, &loaded, map_id, Duration::from_millis(wait_ms))?;
             eprintln!("map {map_id} version {version} is served");
+            Ok(())
         }
-        Command::Plan {
-            map,
-            map_id,
-            queries,
-            start,
-            goal,
-            algo,
-            seed,
-            radius,
-            timeout_ms,
-            out,
-        } => {
-            let version = client.upload_map_file(&map, map_id)?;
-            client
-                .wait_for_map(map_id, version, Duration::from_secs(5))
-                .context("the server did not take the map")?;
-            let lines = match (&queries, start, goal) {
-                (Some(file), _, _) => {
-                    let text = std::fs::read_to_string(file)
-                        .with_context(|| format!("cannot read queries {}", file.display()))?;
-                    jsonl::parse_queries(&text)
-                }
-                (None, Some(s), Some(g)) => vec![jsonl::QueryLine::Query { start: s, goal: g }],
-                _ => anyhow::bail!("give --queries FILE or both --start and --goal"),
-            };
-            // Unknown names are sent as code 0 so that the server answers UnknownAlgorithm.
-            let code = Algorithm::from_name(&algo).map_or(0, |a| a.code());
-            let sink: Box<dyn Write> = match &out {
-                Some(path) => Box::new(
-                    std::fs::File::create(path)
-                        .with_context(|| format!("cannot create {}", path.display()))?,
-                ),
-                None => Box::new(std::io::stdout().lock()),
-            };
-            let mut sink = BufWriter::new(sink);
-            for line in lines {
-                let value = match line {
-                    jsonl::QueryLine::Query { start, goal } => {
-                        let clamp = |v: i64| v.clamp(i32::MIN as i64, i32::MAX as i64) as i32;
-                        let mut request = PlanRequest::new(
-                            (map_id, version),
-                            [clamp(start.0), clamp(start.1)],
-                            [clamp(goal.0), clamp(goal.1)],
-                            Algorithm::AStar,
-                        );
-                        request.algorithm = code;
-                        request.seed = seed;
-                        request.params = PlanParams {
-                            radius,
-                            ..PlanParams::default()
-                        };
-                        let began = Instant::now();
-                        let result = client.plan_raw(&request, Duration::from_millis(timeout_ms));
-                        let round_trip = began.elapsed().as_secs_f64() * 1e6;
-                        match result {
-                            Ok((ok, time_us)) => {
-                                let path: Vec<[f32; 2]> =
-                                    ok.path.iter().map(|p| [p.x, p.y]).collect();
-                                jsonl::plan_line(
-                                    start,
-                                    goal,
-                                    Ok(PathLine {
-                                        path: &path,
-                                        length: ok.length,
-                                        turns: ok.turns as usize,
-                                        expanded: Some(ok.evaluations),
-                                        report: None,
-                                    }),
-                                    time_us as f64,
-                                    &algo,
-                                    seed,
-                                )
-                            }
-                            Err(ClientError::NoServer) => {
-                                anyhow::bail!("no planner server is running")
-                            }
-                            Err(e) => jsonl::plan_line(
-                                start,
-                                goal,
-                                Err(e.name()),
-                                // The server's time when it answered, else the round trip.
-                                client.last_server_time_us().map_or(round_trip, f64::from),
-                                &algo,
-                                seed,
-                            ),
+        Command::Plan(args) => plan(&mut client, &args),
+    }
+}
+
+fn plan(client: &mut PlannerClient, args: &PlanArgs) -> anyhow::Result<()> {
+    let loaded = load(client, &args.map, args.unknown)?;
+    let frame = loaded.frame;
+    let needs_frame = args.frame == Frame::World || args.robot_radius.is_some();
+    if needs_frame && !frame.declared {
+        return Err(bad(format!(
+            "{}: a Moving AI map has no world frame (it is in cells); --frame world and \
+             --robot-radius need a ROS map YAML with a resolution and an origin",
+            args.map.display()
+        )));
+    }
+    let radius_cells = match (args.radius, args.robot_radius) {
+        (Some(r), _) if !(r.is_finite() && r >= 0.0) => {
+            return Err(bad(format!("--radius {r}: must be a finite number >= 0")));
+        }
+        (Some(r), _) => r as f64,
+        (None, Some(m)) if !(m.is_finite() && m >= 0.0) => {
+            return Err(bad(format!(
+                "--robot-radius {m}: must be a finite number >= 0"
+            )));
+        }
+        (None, Some(m)) => frame.inflation_cells(m),
+        (None, None) => 0.0,
+    };
+    let radius_text = match args.robot_radius {
+        Some(m) => jsonl::radius_text(m, radius_cells),
+        None => format!("of {} cells", planner_mapfile::frame::metres(radius_cells)),
+    };
+    let lines = match (&args.queries, &args.start, &args.goal) {
+        (Some(file), _, _) => {
+            let text = std::fs::read_to_string(file)
+                .map_err(|e| bad(format!("cannot read queries {}: {e}", file.display())))?;
+            jsonl::parse_queries(&text, args.frame)
+        }
+        (None, Some(s), Some(g)) => vec![QueryLine::Query(Query {
+            start: endpoint(s, args.frame, "start")?,
+            goal: endpoint(g, args.frame, "goal")?,
+        })],
+        _ => return Err(bad("give --queries FILE or both --start and --goal")),
+    };
+    let version = upload(client, &loaded, args.map_id, Duration::from_secs(5))?;
+    // Unknown names are sent as code 0 so that the server answers UnknownAlgorithm.
+    let code = Algorithm::from_name(&args.algo).map_or(0, |a| a.code());
+    let sink: Box<dyn Write> = match &args.out {
+        Some(path) => Box::new(
+            std::fs::File::create(path)
+                .map_err(|e| bad(format!("cannot create {}: {e}", path.display())))?,
+        ),
+        None => Box::new(std::io::stdout().lock()),
+    };
+    let mut sink = BufWriter::new(sink);
+    let ctx = LineContext {
+        algo: &args.algo,
+        seed: args.seed,
+        frame: frame.declared.then_some(&frame),
+    };
+    for line in lines {
+        let value = match line {
+            QueryLine::Query(query) => match query.resolve(&frame) {
+                Err(e) => jsonl::plan_line(&query, None, Err(e), 0.0, &ctx),
+                Ok(cells) => {
+                    let (start, goal) = cells;
+                    let clamp = |v: i64| v.clamp(i32::MIN as i64, i32::MAX as i64) as i32;
+                    let mut request = PlanRequest::new(
+                        (args.map_id, version),
+                        [clamp(start.0), clamp(start.1)],
+                        [clamp(goal.0), clamp(goal.1)],
+                        Algorithm::AStar,
+                    );
+                    request.algorithm = code;
+                    request.seed = args.seed;
+                    request.params = PlanParams {
+                        radius: radius_cells as f32,
+                        ..PlanParams::default()
+                    };
+                    let began = Instant::now();
+                    let result = client.plan_raw(&request, Duration::from_millis(args.timeout_ms));
+                    let round_trip = began.elapsed().as_secs_f64() * 1e6;
+                    match result {
+                        Ok((ok, time_us)) => {
+                            let path: Vec<[f32; 2]> = ok.path.iter().map(|p| [p.x, p.y]).collect();
+                            let found = PathLine {
+                                path: &path,
+                                length: ok.length,
+                                turns: ok.turns as usize,
+                                expanded: Some(ok.evaluations),
+                                report: None,
+                            };
+                            jsonl::plan_line(&query, Some(cells), Ok(found), time_us as f64, &ctx)
+                        }
+                        Err(ClientError::NoServer) => {
+                            anyhow::bail!("no planner server is running")
+                        }
+                        Err(e) => {
+                            let error = jsonl::explain(
+                                ErrorLine::named(e.name()),
+                                loaded.grid.view(),
+                                loaded.unknown.as_ref().map(|u| u.view()),
+                                cells,
+                                (radius_cells > 0.0).then_some(radius_text.as_str()),
+                            );
+                            // The server's time when it answered, else the round trip.
+                            let time = client.last_server_time_us().map_or(round_trip, f64::from);
+                            jsonl::plan_line(&query, Some(cells), Err(error), time, &ctx)
                         }
                     }
-                    jsonl::QueryLine::Malformed { line, detail } => {
-                        serde_json::json!({"line": line, "error": "MalformedQuery", "detail": detail})
-                    }
-                };
-                serde_json::to_writer(&mut sink, &value)?;
-                sink.write_all(b"\n")?;
+                }
+            },
+            QueryLine::Malformed { line, detail } => {
+                serde_json::json!({"line": line, "error": "MalformedQuery", "detail": detail})
             }
-            sink.flush()?;
-        }
+        };
+        serde_json::to_writer(&mut sink, &value)?;
+        sink.write_all(b"\n")?;
     }
+    sink.flush()?;
     Ok(())
 }

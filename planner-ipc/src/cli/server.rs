@@ -2,7 +2,7 @@
 //!
 //! ```text
 //! planner-server [--prefix planner] [--workers 1] [--mode blocking|busy] [--max-cells N]
-//!                [--max-maps 16] [--max-clients 64]
+//!                [--max-maps 16] [--max-clients 64] [--verify-maps]
 //! ```
 //! Logs go to standard error (`RUST_LOG=debug` for per-request errors). SIGINT and SIGTERM
 //! shut it down cleanly.
@@ -37,8 +37,9 @@ struct Args {
     /// Waiting mode when idle.
     #[arg(long, value_enum, default_value_t = Mode::Blocking)]
     mode: Mode,
-    /// Largest map accepted, in cells (at most 512x512).
-    #[arg(long, default_value_t = crate::wire::MAP_CAPACITY_CELLS)]
+    /// Largest map accepted, in cells (default 4096 x 4096; sides are at most 65535). Larger
+    /// maps are refused with MapTooLarge, logged, and the client's error names this limit.
+    #[arg(long, default_value_t = crate::wire::DEFAULT_MAX_CELLS)]
     max_cells: usize,
     /// Map ids kept at once.
     #[arg(long, default_value_t = 16)]
@@ -51,6 +52,11 @@ struct Args {
     /// loaded server from falling asleep between back-to-back requests).
     #[arg(long, default_value_t = 200)]
     spin_us: u64,
+    /// Check that the row- and column-major layouts of every received map frame agree (a
+    /// frame whose layouts disagree is rejected and logged with the first differing cell);
+    /// costs a transposition of the map per frame. Off: frames are planned on as sent.
+    #[arg(long)]
+    verify_maps: bool,
 }
 
 /// The binary's entry point (also linked into test binaries).
@@ -86,6 +92,7 @@ fn serve(args: Args) -> anyhow::Result<()> {
             Mode::Busy => WaitMode::Busy,
         },
         spin: std::time::Duration::from_micros(args.spin_us),
+        verify_maps: args.verify_maps,
         ..ServerConfig::default()
     };
     server::run(&config, &shutdown)
