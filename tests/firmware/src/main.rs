@@ -6,6 +6,7 @@
 #![no_std]
 #![no_main]
 
+use core::mem::ManuallyDrop;
 use core::ptr::addr_of_mut;
 use core::sync::atomic::{AtomicU32, Ordering};
 
@@ -16,11 +17,22 @@ use cortex_m_semihosting::{debug, hprintln};
 use panic_semihosting as _;
 
 mod scenario;
-use scenario::{CASES, Nodes, Outcome, Storage};
+use scenario::{AnyAngleState, CASES, Nodes, Outcome, Storage};
 
 /// All planner state lives in statics (the linker checks them against the RAM budget).
-/// The A* nodes and open list are all-zero: `.bss`.
-static mut NODES: Nodes = Nodes::new();
+/// The search scratch is all-zero: `.bss`. The plans use the any-angle state, then the DWA
+/// loop's route the A* state, in the same memory.
+static mut SEARCH: Search = Search {
+    anyangle: ManuallyDrop::new(AnyAngleState::new()),
+};
+
+/// Memory shared by the two phases. Every field is valid as all-zero bytes (integers,
+/// floats, enums whose first variant is 0), which is how each phase finds it.
+#[repr(C)]
+union Search {
+    anyangle: ManuallyDrop<AnyAngleState>,
+    astar: ManuallyDrop<Nodes>,
+}
 /// Map, paths, stations and the optimizer.
 static mut STORAGE: Storage = Storage::new();
 
@@ -110,9 +122,10 @@ fn main() -> ! {
     // SAFETY: the only reference to STORAGE, taken once before any interrupt could use it
     // (the SysTick handler does not touch it).
     let s: &mut Storage = unsafe { &mut *addr_of_mut!(STORAGE) };
-    // SAFETY: as above.
-    let nodes: &mut Nodes = unsafe { &mut *addr_of_mut!(NODES) };
-    let mut digests = [0u64; CASES.len() + 1];
+    // SAFETY: the only reference to SEARCH while the plans run; SEARCH starts as the
+    // any-angle state, all zero bytes.
+    let aa: &mut AnyAngleState = unsafe { &mut (*addr_of_mut!(SEARCH)).anyangle };
+    let mut digests = [0u64; CASES.len() + 3];
     let mut count = 0;
     let mut ok = true;
     let mut loaded = 0;
@@ -123,15 +136,30 @@ fn main() -> ! {
                 debug::exit(debug::EXIT_FAILURE);
             }
             loaded = case.side;
+            let t0 = ticks();
+            let o = scenario::prepare(s, aa);
+            let t = ticks() - t0;
+            print(if loaded == 40 { "mesh-40" } else { "mesh-64" }, &o, t);
+            ok &= o.status == 0;
+            digests[count] = o.digest;
+            count += 1;
         }
         let t0 = ticks();
-        let o = scenario::run_case(s, nodes, i);
+        let o = scenario::run_case(s, aa, i);
         let t = ticks() - t0;
         print(case.name, &o, t);
         ok &= o.status == 0 && o.valid == 1;
         digests[count] = o.digest;
         count += 1;
     }
+    // SAFETY: the plans are done and `aa` is not used again; the A* state is valid as all
+    // zero bytes, written here over the any-angle state before the only reference to it is
+    // taken.
+    let nodes: &mut Nodes = unsafe {
+        let search = addr_of_mut!(SEARCH);
+        core::ptr::write_bytes(search as *mut u8, 0, core::mem::size_of::<Search>());
+        &mut (*search).astar
+    };
     let t0 = ticks();
     match scenario::dwa_control_loop(s, nodes) {
         Some(o) => {
