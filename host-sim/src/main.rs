@@ -2,7 +2,7 @@
 //!
 //! Subcommands:
 //! - `demo`, `run`, `scenarios`, `soak`: the simulator (see `sim`);
-//! - `plan`: plan queries on a Moving AI `.map` and print one JSON object a line;
+//! - `plan`: plan queries on a map file and print one JSON object a line;
 //! - `optimize`: run a swarm optimizer on benchmark functions (JSON statistics);
 //! - `bench paper|movingai|speed`: the papers' tables, quality and speed benchmarks;
 //! - `maps`: write the seed-style maps as `.map` files.
@@ -14,8 +14,12 @@ use clap::{Parser, Subcommand};
 
 mod cmd;
 
+/// Counts heap bytes for the benches' peak-memory figures.
+#[global_allocator]
+static ALLOCATOR: host_sim::heap::Counting = host_sim::heap::Counting;
+
 // The library's modules, bound at the crate root so `crate::maps` etc. resolve in `cmd`.
-use host_sim::{maps, mapsrc, render, sim, validate};
+use host_sim::{exit, mapsrc, printed, render, sim, validate};
 
 #[derive(Parser)]
 #[command(
@@ -57,8 +61,21 @@ enum Command {
     Serve(cmd::serve::ServeArgs),
 }
 
-fn main() -> anyhow::Result<()> {
-    match Cli::parse().command {
+/// Runs the command; the exit status says how it ended ([`host_sim::exit`]: 0 done, 1 other
+/// failure, 2 bad input, 3 a mission failed). Errors print with their causes, never as
+/// `Debug` text.
+fn main() -> std::process::ExitCode {
+    match run(Cli::parse().command) {
+        Ok(()) => std::process::ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("Error: {e:#}");
+            std::process::ExitCode::from(host_sim::exit::status(&e))
+        }
+    }
+}
+
+fn run(command: Command) -> anyhow::Result<()> {
+    match command {
         Command::Demo(args) => cmd::sim::demo(&args),
         Command::Run(args) => cmd::sim::run(&args),
         Command::Scenarios(args) => cmd::sim::scenarios(&args),

@@ -26,24 +26,45 @@ pub fn check(
     start: (u16, u16),
     goal: (u16, u16),
 ) -> Result<(), Invalid> {
+    let wide: Vec<[f64; 2]> = path.iter().map(|p| [p[0] as f64, p[1] as f64]).collect();
+    check_f64(grid, &wide, start, goal)
+}
+
+/// [`check`] of waypoints as read back from text (`f64`): what a consumer of printed paths
+/// computes with.
+pub fn check_f64(
+    grid: GridRef<'_>,
+    path: &[[f64; 2]],
+    start: (u16, u16),
+    goal: (u16, u16),
+) -> Result<(), Invalid> {
     let (Some(first), Some(last)) = (path.first(), path.last()) else {
         return Err(Invalid::Empty);
     };
-    let centre = |c: (u16, u16)| [c.0 as f32, c.1 as f32];
+    let centre = |c: (u16, u16)| [c.0 as f64, c.1 as f64];
     if *first != centre(start) || *last != centre(goal) {
         return Err(Invalid::Endpoints);
     }
+    check_segments(grid, path)
+}
+
+/// Whether no segment of `path` touches a blocked cell or leaves the map (a single waypoint
+/// is checked as a point), whatever its ends.
+pub fn check_segments(grid: GridRef<'_>, path: &[[f64; 2]]) -> Result<(), Invalid> {
+    let Some(first) = path.first() else {
+        return Err(Invalid::Empty);
+    };
     let single = [*first, *first];
-    let segments: Vec<&[[f32; 2]]> = if path.len() == 1 {
+    let segments: Vec<&[[f64; 2]]> = if path.len() == 1 {
         vec![&single[..]]
     } else {
         path.windows(2).collect()
     };
     for (index, w) in segments.into_iter().enumerate() {
-        let (a, b) = (
-            [w[0][0] as f64, w[0][1] as f64],
-            [w[1][0] as f64, w[1][1] as f64],
-        );
+        let (a, b) = (w[0], w[1]);
+        if !(a.iter().chain(&b).all(|v| v.is_finite())) {
+            return Err(Invalid::Collision { index });
+        }
         let (x0, x1) = (
             a[0].min(b[0]).floor() as i64 - 1,
             a[0].max(b[0]).ceil() as i64 + 1,
@@ -87,11 +108,11 @@ fn touches(a: [f64; 2], b: [f64; 2], cx: f64, cy: f64) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::maps::HostGrid;
+    use planner_core::grid::GridBuf;
 
     #[test]
     fn corners_count_and_clear_paths_pass() {
-        let g = HostGrid::parse_rows(b"...\n.@.\n...\n").unwrap();
+        let g = GridBuf::parse_rows(b"...\n.@.\n...\n").unwrap();
         assert!(
             check(
                 g.view(),
@@ -125,5 +146,26 @@ mod tests {
             Err(Invalid::Collision { index: 0 })
         );
         assert_eq!(check(g.view(), &[], (0, 0), (0, 0)), Err(Invalid::Empty));
+    }
+
+    /// The margin a printed waypoint may lose matters: a segment that clears a corner by
+    /// 1e-6 cell is valid, the same segment with its end moved by the 7.6e-6 cell an f32's
+    /// shortest decimal may be off near 200 cells is not.
+    #[test]
+    fn read_back_values_decide() {
+        let g = GridBuf::parse_rows(b"...\n.@.\n...\n").unwrap();
+        // Cell (1, 1) has its top-right corner at (1.5, 0.5).
+        let clear = [[0.0, 0.499996], [2.0, 0.5]];
+        assert!(check_segments(g.view(), &clear).is_ok());
+        let moved = [[0.0, 0.499996], [2.0, 0.5000076]];
+        assert_eq!(
+            check_segments(g.view(), &moved),
+            Err(Invalid::Collision { index: 0 })
+        );
+        assert!(check_segments(g.view(), &[[0.0, f64::NAN], [1.0, 0.0]]).is_err());
+        assert_eq!(
+            check_f64(g.view(), &[[0.0, 0.0], [2.0, 0.0]], (0, 0), (2, 0)),
+            Ok(())
+        );
     }
 }

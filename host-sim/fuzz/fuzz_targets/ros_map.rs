@@ -2,14 +2,17 @@
 //! text and image bytes (PGM or PNG, often with a valid magic so the decoders are reached).
 //! No panic and no huge allocation (a header announcing a big image is refused before
 //! decoding); every failure is a `RosMapError`; an accepted map has the image's size
-//! (1..=1024 per side), valid thresholds, a positive resolution and a finite origin, and its
-//! cells follow `pixel_blocked`.
+//! (rows of 1..=MAX_ROW_PIXELS, at most LIMIT cells), valid thresholds, a positive
+//! resolution and a finite origin, and its cells follow `pixel_blocked`.
 #![no_main]
 
 use arbitrary::{Arbitrary, Unstructured};
-use host_sim::mapsrc::ros::{self, MAX_SIDE, RosMapError};
+use host_sim::mapsrc::ros::{self, MAX_ROW_PIXELS, RosMapError};
 use libfuzzer_sys::fuzz_target;
 use std::path::Path;
+
+/// The size limit the loader is given (the CLI's `--max-cells`).
+const LIMIT: usize = 1024 * 1024;
 
 /// How the image bytes start: mostly a real header so that the decoders' bodies run.
 #[derive(Arbitrary, Debug)]
@@ -111,7 +114,7 @@ fuzz_target!(|data: &[u8]| {
     let text = yaml.text();
     let bytes = image.bytes();
     let meta = ros::parse_yaml(&text, Path::new("/maps"));
-    match ros::parse(&text, Path::new("/maps"), &bytes) {
+    match ros::parse(&text, Path::new("/maps"), &bytes, LIMIT) {
         Ok(map) => {
             let meta = meta.expect("parse accepted YAML that parse_yaml refuses");
             let m = &map.meta;
@@ -127,7 +130,7 @@ fuzz_target!(|data: &[u8]| {
                     && m.occupied_thresh <= 1.0
             );
             let (w, h) = (map.grid.width(), map.grid.height());
-            assert!((1..=MAX_SIDE as usize).contains(&w) && (1..=MAX_SIDE as usize).contains(&h));
+            assert!((1..=MAX_ROW_PIXELS).contains(&w) && h >= 1 && w * h <= LIMIT);
             assert_eq!(m.height, h);
             // The corner cells map back to themselves through the world frame.
             for (x, y) in [(0, 0), (w - 1, h - 1)] {
@@ -146,12 +149,20 @@ fuzz_target!(|data: &[u8]| {
                 Err(_) => assert!(
                     !matches!(
                         e,
-                        RosMapError::Image(_) | RosMapError::BadSize(..) | RosMapError::Io(..)
+                        RosMapError::Image { .. }
+                            | RosMapError::BadSize(..)
+                            | RosMapError::TooLarge { .. }
+                            | RosMapError::Io(..)
                     ),
                     "{e:?}"
                 ),
                 Ok(_) => assert!(
-                    matches!(e, RosMapError::Image(_) | RosMapError::BadSize(..)),
+                    matches!(
+                        e,
+                        RosMapError::Image { .. }
+                            | RosMapError::BadSize(..)
+                            | RosMapError::TooLarge { .. }
+                    ),
                     "{e:?}"
                 ),
             }

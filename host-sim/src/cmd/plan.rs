@@ -1,29 +1,52 @@
 //! `host-sim plan`: the contract every planner plugs into.
 //!
 //! ```text
-//! host-sim plan --map FILE.map --queries Q.txt --algo NAME [--seed N] [planner options] [--out RESULTS.jsonl]
+//! host-sim plan --map FILE.map|FILE.yaml --queries Q.txt --algo NAME [--frame cells|world] [--seed N]
+//!               [--radius R | --robot-radius M] [--unknown blocked|free] [--max-cells N|WxH]
+//!               [planner options] [--out RESULTS.jsonl]
 //! host-sim plan --map FILE.map --start X,Y --goal X,Y --algo astar
 //! ```
-//! `NAME` is any planner of `planner-core`: `astar`, `theta`, `aco`, `tclhho`, `igwo`, `hho`,
-//! `gwo`, `tgwo`, `pso`, `ga`, `ssa`, `ssagwo`.
-//! `Q.txt` holds one query a line, `sx sy gx gy` in cell coordinates (blank lines and lines
-//! starting with `#` are skipped). Output: one JSON object a line, in query order:
-//! `{"start":[sx,sy],"goal":[gx,gy],"path":[[x,y],...],"length":L,"time_us":T,...}` or
-//! `{"start":[..],"goal":[..],"error":"NoValidPath"}`. A line that is not a query yields
+//! `NAME` is any planner of `planner-core`: `astar`, `theta`, `anyangle`, `aco`, `tclhho`,
+//! `igwo`, `hho`, `gwo`, `tgwo`, `pso`, `ga`, `ssa`, `ssagwo`.
+//! `Q.txt` holds one query a line, `sx sy gx gy`: cells, or with `--frame world` metres in
+//! the map frame of a ROS map (blank lines and lines starting with `#` are skipped).
+//! Output: one JSON object a line, in query order (the format of `planner_ipc::jsonl`):
+//! `{"start":[sx,sy],"goal":[gx,gy],"path":[[x,y],...],"length":L,"time_us":T,...}` (plus
+//! `path_m` and `length_m` in metres on a ROS map, `start_m` and `goal_m` for queries in
+//! metres) or `{"start":[..],"goal":[..],"error":"NoValidPath"}` (with a `detail` when there
+//! is more to say: a point off the map, unknown space, `StartInflated` for a start that only
+//! the inflation by the robot radius blocks). A line that is not a query yields
 //! `{"line":N,"error":"MalformedQuery","detail":"..."}` and planning goes on.
+//!
+//! Every path is printed exactly and checked as printed: the line is read back as text (the
+//! numbers as `f64`) and validated independently ([`crate::printed`]) on the map it was
+//! planned on, in cells and in metres; a path that would fail is printed as the error
+//! `InvalidPath` with its reason, never as a path.
+//!
+//! What a map costs once is not in any query's `time_us`: standard error gets one JSON
+//! object first, `{"map":..,"width":..,"height":..,"load_ms":..,"inflate_ms":..,
+//! "prepare_ms":..,"warmup_ms":..}` (reading and parsing the file; inflating by the radius;
+//! `HostPlanner::prepare`: scratch, component labels, the any-angle mesh; a query from a
+//! free cell to itself, which builds whatever the planner makes on first use: Theta* nodes,
+//! ACO pheromones).
+//!
+//! Exit status ([`crate::exit`]): 0 when every query was answered (a query's failure is a
+//! line), 2 for bad input (map, query file, options).
 
-use crate::maps::{HostGrid, load_movingai};
+use crate::exit::bad;
+use crate::mapsrc::{Frame, MapFrame, MapOptions, load_map};
 use anyhow::Context;
 use clap::ValueEnum;
 use planner_core::PlanError;
 use planner_core::encoding::walk::CornerRule;
 use planner_core::geometry::Cell;
+use planner_core::grid::GridBuf;
 use planner_core::optim::any::AlgorithmKind;
 use planner_core::path::{Path, PathView};
 use planner_core::planner::aco::AcoParams;
 use planner_core::planner::owned::HostPlanner;
 use planner_core::planner::{EncodingKind, GuideKind, InitKind, PlanParams, PlannerKind};
-use planner_ipc::jsonl::{self, QueryLine};
+use planner_ipc::jsonl::{self, Endpoint, ErrorLine, LineContext, QueryLine};
 use serde_json::{Value, json};
 use std::io::{BufWriter, Write};
 use std::path::PathBuf;
@@ -35,30 +58,41 @@ const PATH_CAPACITY: usize = 1 << 16;
 /// Arguments of `host-sim plan`.
 #[derive(clap::Args, Debug)]
 pub struct PlanArgs {
-    /// Moving AI `.map` file.
+    /// Moving AI `.map` or ROS map_server `.yaml` (PGM/PNG image) file.
     #[arg(long)]
     pub map: PathBuf,
-    /// File of queries, one `sx sy gx gy` a line.
+    /// File of queries, one `sx sy gx gy` a line (cells, or metres with `--frame world`).
     #[arg(long, required_unless_present = "start", conflicts_with_all = ["start", "goal"])]
     pub queries: Option<PathBuf>,
-    /// Start cell `X,Y` (single query).
-    #[arg(long, value_parser = parse_xy, requires = "goal")]
-    pub start: Option<(i64, i64)>,
-    /// Goal cell `X,Y` (single query).
-    #[arg(long, value_parser = parse_xy, requires = "start")]
-    pub goal: Option<(i64, i64)>,
-    /// Planner: astar, theta, aco, tclhho, igwo, hho, gwo, tgwo, pso, ga, ssa, ssagwo.
+    /// Start `X,Y` (single query): a cell, or metres with `--frame world`.
+    #[arg(long, requires = "goal", allow_hyphen_values = true)]
+    pub start: Option<String>,
+    /// Goal `X,Y` (single query): a cell, or metres with `--frame world`.
+    #[arg(long, requires = "start", allow_hyphen_values = true)]
+    pub goal: Option<String>,
+    /// What starts, goals and queries are in: cells, or metres in the map frame of a ROS
+    /// map (its YAML's origin and resolution, y up).
+    #[arg(long, value_enum, default_value_t = Frame::Cells)]
+    pub frame: Frame,
+    /// Planner: astar, theta, anyangle, aco, tclhho, igwo, hho, gwo, tgwo, pso, ga, ssa, ssagwo.
     #[arg(long, value_parser = parse_planner, default_value = "astar")]
     pub algo: PlannerKind,
     /// Seed of the random number generator (stochastic planners; recorded in the output).
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
     /// Robot radius in cells: the map is inflated so that paths keep this clearance.
-    #[arg(long, default_value_t = 0.0)]
-    pub radius: f32,
+    #[arg(long, conflicts_with = "robot_radius")]
+    pub radius: Option<f32>,
+    /// Robot radius in metres (a ROS map): every cell whose centre lies within it of an
+    /// obstacle is blocked for planning.
+    #[arg(long)]
+    pub robot_radius: Option<f64>,
     /// Write results here instead of standard output.
     #[arg(long)]
     pub out: Option<PathBuf>,
+    /// Size limit and unknown space of the map.
+    #[command(flatten)]
+    pub limits: MapOptions,
     /// Options of the swarm planners and ACO.
     #[command(flatten)]
     pub swarm: SwarmArgs,
@@ -73,9 +107,10 @@ pub struct SwarmArgs {
     /// Iterations.
     #[arg(long)]
     pub iters: Option<u32>,
-    /// Stop after this many iterations without improvement.
-    #[arg(long)]
-    pub stagnation: Option<u32>,
+    /// Stop after this many iterations without a 1e-4 relative improvement (0: run every
+    /// iteration, as the papers do).
+    #[arg(long, default_value_t = planner_core::planner::HOST_STAGNATION)]
+    pub stagnation: u32,
     /// Path encoding: corridor (any map), column (seed 000), walk (seed 003).
     #[arg(long, value_enum, default_value_t = EncodingArg::Corridor)]
     pub encoding: EncodingArg,
@@ -95,7 +130,7 @@ pub struct SwarmArgs {
     #[arg(long)]
     pub corridor_radius: Option<f32>,
     /// Corridor encoding: the route the stations sit on.
-    #[arg(long, value_enum, default_value_t = GuideArg::Visibility)]
+    #[arg(long, value_enum, default_value_t = GuideArg::Anyangle)]
     pub guide: GuideArg,
     /// Walk encoding: maximum steps.
     #[arg(long)]
@@ -107,8 +142,8 @@ pub struct SwarmArgs {
 pub enum GuideArg {
     /// The octile A* route.
     Astar,
-    /// The shortest any-angle route of the map's visibility graph (built once per map).
-    Visibility,
+    /// The exact shortest any-angle route (`anyangle`; its mesh is built once per map).
+    Anyangle,
 }
 
 impl GuideArg {
@@ -116,7 +151,7 @@ impl GuideArg {
     pub fn kind(self) -> GuideKind {
         match self {
             GuideArg::Astar => GuideKind::AStar,
-            GuideArg::Visibility => GuideKind::Visibility,
+            GuideArg::Anyangle => GuideKind::AnyAngle,
         }
     }
 }
@@ -157,7 +192,7 @@ impl SwarmArgs {
         let params = PlanParams {
             population: self.pop.unwrap_or(base.population),
             iterations: self.iters.unwrap_or(base.iterations),
-            stagnation: self.stagnation,
+            stagnation: (self.stagnation > 0).then_some(self.stagnation),
             seed,
             encoding: match self.encoding {
                 EncodingArg::Corridor => EncodingKind::Corridor,
@@ -183,7 +218,7 @@ impl SwarmArgs {
         let aco = AcoParams {
             ants: self.pop.unwrap_or(aco_base.ants),
             iterations: self.iters.unwrap_or(aco_base.iterations),
-            stagnation: self.stagnation,
+            stagnation: (self.stagnation > 0).then_some(self.stagnation),
             seed,
             prune: !self.no_prune,
             ..aco_base
@@ -202,10 +237,53 @@ fn parse_planner(text: &str) -> Result<PlannerKind, String> {
     })
 }
 
-fn parse_xy(text: &str) -> Result<(i64, i64), String> {
-    let (x, y) = text.split_once(',').ok_or("expected X,Y")?;
-    let num = |s: &str| s.trim().parse::<i64>().map_err(|e| format!("{s:?}: {e}"));
-    Ok((num(x)?, num(y)?))
+/// `X,Y` in the frame asked for: integers for cells, numbers for metres.
+pub fn endpoint(text: &str, frame: Frame, what: &str) -> anyhow::Result<Endpoint> {
+    let [x, y] = crate::mapsrc::frame::parse_point(text)
+        .map_err(|e| bad(format!("--{what} {text}: {e}")))?;
+    match frame {
+        Frame::World => Ok(Endpoint::World([x, y])),
+        Frame::Cells if x.fract() == 0.0 && y.fract() == 0.0 && x.abs() < 1e15 => {
+            Ok(Endpoint::Cell(x as i64, y as i64))
+        }
+        Frame::Cells => Err(bad(format!(
+            "--{what} {text}: cells are integers (--frame world takes metres)"
+        ))),
+    }
+}
+
+/// The inflation radius in cells of `--radius` (cells) or `--robot-radius` (metres, which
+/// needs a map with a world frame), and how to name it in messages.
+pub fn radius_cells(
+    radius: Option<f32>,
+    robot_radius: Option<f64>,
+    frame: &MapFrame,
+    map: &std::path::Path,
+) -> anyhow::Result<(f64, String)> {
+    match (radius, robot_radius) {
+        (Some(r), _) if !(r.is_finite() && r >= 0.0) => {
+            Err(bad(format!("--radius {r}: must be a finite number >= 0")))
+        }
+        (Some(r), _) => Ok((r as f64, format!("of {r} cells"))),
+        (None, Some(m)) if !(m.is_finite() && m >= 0.0) => Err(bad(format!(
+            "--robot-radius {m}: must be a finite number of metres >= 0"
+        ))),
+        (None, Some(_)) if !frame.declared => Err(no_frame(map, "--robot-radius")),
+        (None, Some(m)) => {
+            let cells = frame.inflation_cells(m);
+            Ok((cells, jsonl::radius_text(m, cells)))
+        }
+        (None, None) => Ok((0.0, String::new())),
+    }
+}
+
+/// The error of an option that needs metres on a map without a world frame.
+pub fn no_frame(map: &std::path::Path, option: &str) -> anyhow::Error {
+    bad(format!(
+        "{}: a Moving AI map has no world frame (it is in cells); {option} needs a ROS map \
+         YAML with a resolution and an origin",
+        map.display()
+    ))
 }
 
 /// A query as read: coordinates may be anything an `i64` holds; range is the planner's job.
@@ -219,9 +297,22 @@ pub struct Query {
 
 /// A map prepared for repeated queries: the inflated grid and the planners' scratch.
 pub struct PreparedMap {
-    grid: Box<HostGrid>,
+    grid: GridBuf,
     planner: HostPlanner,
     path: Box<Path<PATH_CAPACITY>>,
+    costs: MapCosts,
+}
+
+/// What preparing a map cost once, in milliseconds (never part of a query's time).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct MapCosts {
+    /// Inflating the grid by the robot radius.
+    pub inflate_ms: f64,
+    /// `HostPlanner::prepare`: sizing the planners' scratch, labelling components, building
+    /// the any-angle mesh.
+    pub prepare_ms: f64,
+    /// The first-use structures of a planner ([`PreparedMap::warm_up`]).
+    pub warmup_ms: f64,
 }
 
 /// The outcome of one query.
@@ -241,20 +332,58 @@ pub struct PlanSummary {
 }
 
 impl PreparedMap {
-    /// Inflates `grid` by `radius` and labels its components.
-    pub fn new(grid: &HostGrid, radius: f32) -> anyhow::Result<Self> {
-        let mut inflated = Box::new(HostGrid::new(1, 1).map_err(anyhow::Error::msg)?);
-        grid.inflate_into(radius, &mut inflated)
-            .map_err(anyhow::Error::msg)?;
+    /// Inflates `grid` by `radius` (a radius of 0 keeps it as it is) and labels its
+    /// components.
+    pub fn new(grid: GridBuf, radius: f32) -> anyhow::Result<Self> {
+        let began = Instant::now();
+        let grid = if radius == 0.0 {
+            grid
+        } else {
+            grid.inflated(radius).map_err(anyhow::Error::msg)?
+        };
+        let inflate_ms = ms(began);
+        let began = Instant::now();
         let mut planner = HostPlanner::new();
-        planner
-            .prepare(inflated.view())
-            .map_err(anyhow::Error::msg)?;
+        planner.prepare(grid.view()).map_err(anyhow::Error::msg)?;
         Ok(PreparedMap {
-            grid: inflated,
+            grid,
             planner,
             path: Box::new(Path::new()),
+            costs: MapCosts {
+                inflate_ms,
+                prepare_ms: ms(began),
+                warmup_ms: 0.0,
+            },
         })
+    }
+
+    /// Plans once from the first free cell to itself, so that whatever `kind` builds on first
+    /// use (Theta* nodes, ACO pheromones, anything a planner keeps per map) is
+    /// built now and counted in [`MapCosts::warmup_ms`], not in the first query's time.
+    pub fn warm_up(&mut self, kind: PlannerKind, params: &PlanParams, aco: &AcoParams) {
+        let g = self.grid.view();
+        let Some(free) = (0..g.cells()).map(|i| g.cell(i)).find(|&c| g.is_free(c)) else {
+            return;
+        };
+        let at = (free.x as i64, free.y as i64);
+        let query = Query {
+            start: at,
+            goal: at,
+        };
+        let began = Instant::now();
+        // The outcome does not matter: only what the planner keeps for the next queries.
+        let _ = self.plan_inner(kind, params, aco, query, &mut []);
+        self.costs.warmup_ms = ms(began);
+    }
+
+    /// What preparing this map cost.
+    pub fn costs(&self) -> MapCosts {
+        self.costs
+    }
+
+    /// The grid queries are planned on (inflated by the radius).
+    pub fn grid(&self) -> &GridBuf {
+        &self.grid
     }
 
     /// Plans one query; `history` receives the best cost per iteration (swarm planners).
@@ -303,13 +432,42 @@ impl PreparedMap {
     }
 }
 
+/// Milliseconds since `began`.
+fn ms(began: Instant) -> f64 {
+    began.elapsed().as_secs_f64() * 1e3
+}
+
+/// Rounds milliseconds to microseconds for JSON.
+fn ms_json(value: f64) -> Value {
+    json!((value * 1e3).round() / 1e3)
+}
+
+/// The standard-error line of a map's one-time costs (see the module documentation).
+pub fn costs_json(map: &std::path::Path, grid: &GridBuf, load_ms: f64, costs: MapCosts) -> Value {
+    json!({
+        "map": map.display().to_string(),
+        "width": grid.width(),
+        "height": grid.height(),
+        "load_ms": ms_json(load_ms),
+        "inflate_ms": ms_json(costs.inflate_ms),
+        "prepare_ms": ms_json(costs.prepare_ms),
+        "warmup_ms": ms_json(costs.warmup_ms),
+    })
+}
+
 fn to_cell((x, y): (i64, i64)) -> Option<Cell> {
     Some(Cell::new(u16::try_from(x).ok()?, u16::try_from(y).ok()?))
 }
 
 /// The JSON line of one query (the format lives in `planner_ipc::jsonl`, shared with
 /// `planner-client`).
-pub fn outcome_json(kind: PlannerKind, seed: u64, query: Query, outcome: &Outcome) -> Value {
+pub fn outcome_json(
+    query: &jsonl::Query,
+    cells: ((i64, i64), (i64, i64)),
+    outcome: &Outcome,
+    error: impl FnOnce(PlanError) -> ErrorLine,
+    ctx: &LineContext<'_>,
+) -> Value {
     let result = match &outcome.result {
         Ok(s) => Ok(jsonl::PathLine {
             path: &s.path,
@@ -318,31 +476,40 @@ pub fn outcome_json(kind: PlannerKind, seed: u64, query: Query, outcome: &Outcom
             expanded: s.outcome.expanded,
             report: s.outcome.report.as_ref(),
         }),
-        Err(e) => Err(e.name()),
+        Err(e) => Err(error(*e)),
     };
-    jsonl::plan_line(
-        query.start,
-        query.goal,
-        result,
-        outcome.time_us,
-        kind.name(),
-        seed,
-    )
+    jsonl::plan_line(query, Some(cells), result, outcome.time_us, ctx)
 }
 
 /// Runs `host-sim plan`.
 pub fn run(args: &PlanArgs) -> anyhow::Result<()> {
-    let grid = load_movingai(&args.map)?;
-    let mut prepared = PreparedMap::new(&grid, args.radius).context("invalid --radius")?;
+    let began = Instant::now();
+    let loaded = load_map(&args.map, &args.limits)?;
+    let load_ms = ms(began);
+    let frame = loaded.frame;
+    if args.frame == Frame::World && !frame.declared {
+        return Err(no_frame(&args.map, "--frame world"));
+    }
+    let (radius, radius_text) = radius_cells(args.radius, args.robot_radius, &frame, &args.map)?;
+    let mut prepared =
+        PreparedMap::new(loaded.grid.clone(), radius as f32).context("invalid --radius")?;
     let (params, aco) = args.swarm.params(args.seed);
-    let lines = match (&args.queries, args.start, args.goal) {
+    prepared.warm_up(args.algo, &params, &aco);
+    eprintln!(
+        "{}",
+        costs_json(&args.map, prepared.grid(), load_ms, prepared.costs())
+    );
+    let lines = match (&args.queries, &args.start, &args.goal) {
         (Some(file), _, _) => {
             let text = std::fs::read_to_string(file)
-                .with_context(|| format!("cannot read queries {}", file.display()))?;
-            jsonl::parse_queries(&text)
+                .map_err(|e| bad(format!("cannot read queries {}: {e}", file.display())))?;
+            jsonl::parse_queries(&text, args.frame)
         }
-        (None, Some(start), Some(goal)) => vec![QueryLine::Query { start, goal }],
-        _ => anyhow::bail!("give --queries FILE or both --start and --goal"),
+        (None, Some(start), Some(goal)) => vec![QueryLine::Query(jsonl::Query {
+            start: endpoint(start, args.frame, "start")?,
+            goal: endpoint(goal, args.frame, "goal")?,
+        })],
+        _ => return Err(bad("give --queries FILE or both --start and --goal")),
     };
     let sink: Box<dyn Write> = match &args.out {
         Some(path) => Box::new(
@@ -352,13 +519,48 @@ pub fn run(args: &PlanArgs) -> anyhow::Result<()> {
         None => Box::new(std::io::stdout().lock()),
     };
     let mut out = BufWriter::new(sink);
+    let name = args.algo.name();
+    let ctx = LineContext {
+        algo: name,
+        seed: args.seed,
+        frame: frame.declared.then_some(&frame),
+    };
+    let unknown = loaded.unknown.as_ref().map(|u| u.view());
+    let radius_text = (radius > 0.0).then_some(radius_text.as_str());
     for line in lines {
         let value = match line {
-            QueryLine::Query { start, goal } => {
-                let q = Query { start, goal };
-                let outcome = prepared.plan(args.algo, &params, &aco, q, &mut []);
-                outcome_json(args.algo, args.seed, q, &outcome)
-            }
+            QueryLine::Query(query) => match query.resolve(&frame) {
+                Err(e) => jsonl::plan_line(&query, None, Err(e), 0.0, &ctx),
+                Ok(cells) => {
+                    let q = Query {
+                        start: cells.0,
+                        goal: cells.1,
+                    };
+                    let outcome = prepared.plan(args.algo, &params, &aco, q, &mut []);
+                    let explain = |e: PlanError| {
+                        jsonl::explain(
+                            ErrorLine::named(e.name()),
+                            loaded.grid.view(),
+                            unknown,
+                            cells,
+                            radius_text,
+                        )
+                    };
+                    let value = outcome_json(&query, cells, &outcome, explain, &ctx);
+                    // What is printed, read back, must validate on the map planned on.
+                    let text = value.to_string();
+                    match crate::printed::check_line(&text, prepared.grid().view(), ctx.frame) {
+                        Ok(()) => value,
+                        Err(why) => {
+                            let error = ErrorLine {
+                                name: "InvalidPath".into(),
+                                detail: Some(why),
+                            };
+                            jsonl::plan_line(&query, Some(cells), Err(error), outcome.time_us, &ctx)
+                        }
+                    }
+                }
+            },
             QueryLine::Malformed { line, detail } => {
                 json!({"line": line, "error": "MalformedQuery", "detail": detail})
             }
@@ -375,9 +577,51 @@ mod tests {
     use super::*;
 
     #[test]
+    fn warm_up_is_timed_apart_and_changes_no_result() {
+        let rows = b"..........@.........\n..@@@@....@...@@@...\n..@.......@.....@...\n\
+                     ..@...@@@@@@....@...\n..........@.........\n....@@@.......@@@@..\n\
+                     ....................\n";
+        let q = Query {
+            start: (0, 0),
+            goal: (19, 6),
+        };
+        let (mut p, a) = (PlanParams::new(AlgorithmKind::Tclhho), AcoParams::default());
+        p.iterations = 40;
+        let a = AcoParams {
+            iterations: 20,
+            ..a
+        };
+        for kind in PlannerKind::ALL {
+            let fresh = || PreparedMap::new(GridBuf::parse_rows(rows).unwrap(), 0.0).unwrap();
+            let mut cold = fresh();
+            let mut warm = fresh();
+            warm.warm_up(kind, &p, &a);
+            assert_eq!(cold.costs().warmup_ms, 0.0);
+            assert!(warm.costs().warmup_ms > 0.0, "{kind:?}");
+            let (c, w) = (
+                cold.plan(kind, &p, &a, q, &mut []).result.unwrap(),
+                warm.plan(kind, &p, &a, q, &mut []).result.unwrap(),
+            );
+            assert_eq!(c.path, w.path, "{kind:?}");
+            assert_eq!(c.outcome, w.outcome, "{kind:?}");
+        }
+    }
+
+    #[test]
+    fn radius_zero_keeps_the_grid_and_a_bad_radius_is_an_error() {
+        let grid = GridBuf::parse_rows(b"...\n.@.\n...\n").unwrap();
+        let kept = PreparedMap::new(grid.clone(), 0.0).unwrap();
+        assert_eq!(kept.grid, grid);
+        let inflated = PreparedMap::new(grid.clone(), 0.5).unwrap();
+        assert_eq!(inflated.grid, grid.inflated(0.5).unwrap());
+        assert!(PreparedMap::new(grid.clone(), -1.0).is_err());
+        assert!(PreparedMap::new(grid, f32::NAN).is_err());
+    }
+
+    #[test]
     fn out_of_range_coordinates_are_outside_the_map() {
-        let grid = HostGrid::parse_rows(b"...\n...\n").unwrap();
-        let mut map = PreparedMap::new(&grid, 0.0).unwrap();
+        let grid = GridBuf::parse_rows(b"...\n...\n").unwrap();
+        let mut map = PreparedMap::new(grid, 0.0).unwrap();
         let q = |s, g| Query { start: s, goal: g };
         let (p, a) = (PlanParams::new(AlgorithmKind::Tclhho), AcoParams::default());
         for kind in PlannerKind::ALL {

@@ -1,7 +1,7 @@
 //! `host-sim render-demo` (hidden): writes example pictures, to look at the renderer.
 //!
 //! ```text
-//! host-sim render-demo [--map FILE.map] [--start X,Y] [--goal X,Y] [--out DIR]
+//! host-sim render-demo [--map FILE.map|FILE.yaml] [--start X,Y] [--goal X,Y] [--out DIR] [--max-cells N]
 //! ```
 //! Writes into `DIR` (default `target/render-demo`): `warehouse.{png,svg}` (real A* and Theta*
 //! paths on the map), `small.{png,svg}` (a 10 x 10 map with a path, a marker and a disc),
@@ -9,13 +9,13 @@
 //! blocked block) and `convergence.{png,svg}` (two made-up
 //! decreasing series, titled as such).
 
-use crate::maps::{HostGrid, load_movingai};
+use crate::mapsrc::{MapOptions, load_map};
 use crate::render::{
     Disc, FieldPicture, Layer, MapPicture, Marker, Series, Shape, Style, convergence_plot,
 };
 use anyhow::Context;
 use planner_core::geometry::{Cell, Point};
-use planner_core::grid::GridRef;
+use planner_core::grid::{GridBuf, GridRef};
 use planner_core::path::{Path, PathView};
 use planner_core::search::astar::{AStarNode, OpenSlot, open_capacity};
 use planner_core::search::{SearchNode, astar, theta};
@@ -36,6 +36,9 @@ pub struct RenderDemoArgs {
     /// Output directory.
     #[arg(long, default_value = "target/render-demo")]
     pub out: PathBuf,
+    /// Size limit of the map.
+    #[command(flatten)]
+    pub limits: MapOptions,
 }
 
 fn parse_cell(text: &str) -> Result<Cell, String> {
@@ -62,7 +65,7 @@ fn plan_both(grid: GridRef<'_>, start: Cell, goal: Cell) -> anyhow::Result<[(Vec
 pub fn run(args: &RenderDemoArgs) -> anyhow::Result<()> {
     let out = |name: &str| args.out.join(name);
     // A real map with real paths.
-    let grid = load_movingai(&args.map)?;
+    let grid = load_map(&args.map, &args.limits)?.grid;
     let [(a_path, a_len), (t_path, t_len)] =
         plan_both(grid.view(), args.start, args.goal).context("planning the demo query")?;
     let map_name = args
@@ -88,7 +91,7 @@ pub fn run(args: &RenderDemoArgs) -> anyhow::Result<()> {
     pic.save_svg(&out("warehouse.svg"))?;
 
     // A small map with every kind of overlay.
-    let small = HostGrid::parse_rows(
+    let small = GridBuf::parse_rows(
         b"..........\n..........\n..@@@@....\n.....@....\n.....@..@.\n\
           ..@......@\n..@...@@..\n..@.......\n......@...\n..........\n",
     )
@@ -135,7 +138,7 @@ pub fn run(args: &RenderDemoArgs) -> anyhow::Result<()> {
         })
         .collect();
     // A shelf across the valley, to show blocked cells over the field.
-    let mut shelves = HostGrid::new(w, h).map_err(anyhow::Error::msg)?;
+    let mut shelves = GridBuf::new(w, h).map_err(anyhow::Error::msg)?;
     for x in 28..34 {
         for y in 8..20 {
             shelves

@@ -8,7 +8,7 @@
 //! ```
 
 use super::bench::{fmt, print_table, progress, write_json};
-use crate::mapsrc::{self, warehouse};
+use crate::mapsrc::{self, MapOptions, warehouse};
 use crate::sim::mission::{self, MissionResult, MissionSpec, Outcome};
 use crate::sim::planner::{GlobalPlanner, InProcess, PlanRequest, PlannerChoice};
 use crate::sim::scenarios::{self, mission_params};
@@ -16,7 +16,7 @@ use crate::sim::{kinematics::DiffDrive, report};
 use anyhow::{Context, bail};
 use planner_core::dwa::{DwaConfig, DwaState};
 use planner_core::geometry::Cell;
-use planner_core::grid::{GridRef, words_for};
+use planner_core::grid::{GridBuf, GridRef, words_for};
 use planner_core::maps::{MapKind, seed000};
 use planner_core::planner::PlannerKind;
 use rand_core::{Rng, SeedableRng};
@@ -83,6 +83,9 @@ pub struct RunArgs {
     /// Layout of the generated warehouse (without `--map`).
     #[command(flatten)]
     pub layout: warehouse::WarehouseParams,
+    /// Size limit of the loaded or generated map.
+    #[command(flatten)]
+    pub limits: MapOptions,
 }
 
 /// Arguments of `host-sim scenarios`.
@@ -224,7 +227,7 @@ fn convergence_in_process(
 pub fn demo(args: &DemoArgs) -> anyhow::Result<()> {
     let map = seed000::<{ words_for(40, 40) }>(MapKind::Warehouse, 40)
         .map_err(|e| anyhow::anyhow!("{e:?}"))?;
-    let grid = crate::sim::planner::copy_grid(map.grid.view()).map_err(anyhow::Error::msg)?;
+    let grid = GridBuf::from_view(map.grid.view());
     let spec = MissionSpec {
         name: "demo: seed-000 warehouse 40x40".into(),
         grid,
@@ -306,11 +309,11 @@ fn random_pair(
 pub fn run(args: &RunArgs) -> anyhow::Result<()> {
     let (grid, name, stations) = match &args.map {
         Some(path) => {
-            let m = mapsrc::load(path)?;
+            let m = mapsrc::load_map(path, &args.limits)?;
             (m.grid, m.name, Vec::new())
         }
         None => {
-            let w = warehouse::generate(&args.layout)?;
+            let w = warehouse::generate(&args.layout, &args.limits)?;
             let mut st: Vec<(Cell, &'static str)> =
                 w.picks.iter().map(|c| (*c, "pick station")).collect();
             st.extend(w.chargers.iter().map(|c| (*c, "charging station")));
@@ -454,7 +457,7 @@ pub fn soak(args: &SoakArgs) -> anyhow::Result<()> {
             margin: pick(&mut rng, 1, 3),
             chargers: 3,
         };
-        let w = warehouse::generate(&layout)?;
+        let w = warehouse::generate(&layout, &MapOptions::default())?;
         let mut stations = w.picks.clone();
         stations.extend(&w.chargers);
         let (start, goal) = random_pair(w.grid.view(), &mut rng, &stations, 10.0)?;

@@ -1,6 +1,7 @@
 //! Top views: an occupancy grid ([`MapPicture`]) or a scalar field such as terrain heights
 //! ([`FieldPicture`]), with polylines, markers, discs, start and goal, legend, ticks and scale.
 
+use super::raster::Raster;
 use super::{
     Disc, Figure, GOAL_COLOR, Layer, Marker, Rgb, START_COLOR, Shape, Style, drawing_error,
     ensure_font, font, nice_step, rgb, text_size, write_png, write_svg,
@@ -32,9 +33,16 @@ pub struct MapPicture<'a> {
     pub start: Option<Point>,
     /// Goal, marked red and labelled.
     pub goal: Option<Point>,
-    /// Pixels per cell; `None` picks one so that the map is about 600 to 1300 px wide.
+    /// Pixels per cell; `None` picks one so that the map is about 600 to 1300 px wide, or,
+    /// for a map of more than [`MAX_MAP_PX`] cells a side, one pixel per block of cells so
+    /// that it is at most [`MAX_MAP_PX`] pixels a side (shaded by the share of blocked cells
+    /// under it).
     pub cell_px: Option<u32>,
 }
+
+/// Largest side, in pixels, of the map area of an automatically sized [`MapPicture`]: bigger
+/// maps are downsampled (a pixel's shade is the share of blocked cells under it).
+pub const MAX_MAP_PX: usize = 2000;
 
 impl<'a> MapPicture<'a> {
     /// A picture of `grid` with nothing on it yet.
@@ -255,8 +263,10 @@ struct Entry {
 struct Scene<'s> {
     parts: SceneParts<'s>,
     entries: Vec<Entry>,
-    /// Pixels per cell.
+    /// Pixels per block of cells (1 when `block > 1`).
     cell: i32,
+    /// Cells per block, along each axis: 1, or more on a downsampled map.
+    block: usize,
     /// Upper-left corner of the map area.
     map_x: i32,
     map_y: i32,
@@ -323,19 +333,25 @@ impl<'s> Scene<'s> {
         if w == 0 || h == 0 {
             bail!("cannot draw an empty {w} x {h} map");
         }
-        let cell = match cell_px {
+        let downsample = matches!(parts.background, Background::Occupancy(_));
+        let (cell, block) = match cell_px {
             Some(0) => bail!("cell size must be at least 1 pixel"),
-            Some(c) => c.min(256) as i32,
-            None => auto_cell_px(w, h),
+            Some(c) => (c.min(256) as i32, 1),
+            None if downsample && w.max(h) > MAX_MAP_PX => (1, w.max(h).div_ceil(MAX_MAP_PX)),
+            None => (auto_cell_px(w, h), 1),
         };
-        let (map_w, map_h) = (w as i64 * cell as i64, h as i64 * cell as i64);
+        let (map_w, map_h) = (
+            w.div_ceil(block) as i64 * cell as i64,
+            h.div_ceil(block) as i64 * cell as i64,
+        );
         if map_w > 30_000 || map_h > 30_000 {
             bail!("a {w} x {h} map at {cell} px per cell is too big to draw");
         }
         let (map_w, map_h) = (map_w as i32, map_h as i32);
+        let scale = cell as f64 / block as f64;
 
-        let entries = legend_entries(&parts);
-        let scale_cells = nice_below(160.0 / cell as f64) as i32;
+        let entries = legend_entries(&parts, block);
+        let scale_cells = nice_below(160.0 / scale) as i32;
 
         // Legend panel size.
         let mut legend_w = entries
@@ -345,7 +361,7 @@ impl<'s> Scene<'s> {
             .unwrap_or(0);
         let scale_text = scale_label(scale_cells);
         legend_w = legend_w
-            .max(scale_cells * cell)
+            .max((scale_cells as f64 * scale).round() as i32)
             .max(text_size(&scale_text, TEXT_PT).0);
         // Entries, then the scale bar with its label.
         let mut legend_h = entries.len() as i32 * ROW_H + 8 + 32;
@@ -376,6 +392,7 @@ impl<'s> Scene<'s> {
             parts,
             entries,
             cell,
+            block,
             map_x: left,
             map_y: top,
             legend_x,
@@ -388,9 +405,14 @@ impl<'s> Scene<'s> {
         })
     }
 
+    /// Pixels per cell (below 1 on a downsampled map).
+    fn scale(&self) -> f64 {
+        self.cell as f64 / self.block as f64
+    }
+
     /// Pixel of a point in cell units, unrounded and unbounded.
     fn pxf(&self, p: Point) -> (f64, f64) {
-        let c = self.cell as f64;
+        let c = self.scale();
         (
             self.map_x as f64 + (p.x as f64 + 0.5) * c,
             self.map_y as f64 + (p.y as f64 + 0.5) * c,
@@ -406,11 +428,17 @@ impl<'s> Scene<'s> {
     }
 
     fn map_w(&self) -> i32 {
-        self.parts.width as i32 * self.cell
+        self.parts.width.div_ceil(self.block) as i32 * self.cell
     }
 
     fn map_h(&self) -> i32 {
-        self.parts.height as i32 * self.cell
+        self.parts.height.div_ceil(self.block) as i32 * self.cell
+    }
+
+    /// Whether the occupancy is drawn as pixels ([`Figure::raster`]): wherever a cell is one
+    /// pixel or less.
+    fn occupancy_as_pixels(&self) -> bool {
+        matches!(self.parts.background, Background::Occupancy(_)) && self.cell == 1
     }
 }
 
@@ -422,9 +450,13 @@ fn scale_label(cells: i32) -> String {
     }
 }
 
-fn legend_entries(parts: &SceneParts<'_>) -> Vec<Entry> {
+fn legend_entries(parts: &SceneParts<'_>, block: usize) -> Vec<Entry> {
     let mut entries = Vec::new();
     match &parts.background {
+        Background::Occupancy(_) if block > 1 => entries.push(Entry {
+            swatch: Swatch::Fill(BLOCKED),
+            text: format!("blocked (a pixel is {block} x {block} cells: darker, more blocked)"),
+        }),
         Background::Occupancy(_) => entries.push(Entry {
             swatch: Swatch::Fill(BLOCKED),
             text: "blocked cell".into(),
@@ -693,6 +725,18 @@ impl Figure for Scene<'_> {
         (self.width_px as u32, self.height_px as u32)
     }
 
+    fn raster(&self) -> Option<Raster> {
+        match self.parts.background {
+            Background::Occupancy(grid) if self.occupancy_as_pixels() => Some(Raster::occupancy(
+                grid,
+                self.block,
+                (self.map_x, self.map_y),
+                BLOCKED,
+            )),
+            _ => None,
+        }
+    }
+
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> DResult {
         self.draw_background(root)?;
         self.draw_overlays(root)?;
@@ -736,6 +780,8 @@ impl Scene<'_> {
             Ok(())
         };
         match &self.parts.background {
+            // Drawn as pixels by the writers (`Figure::raster`).
+            Background::Occupancy(_) if self.occupancy_as_pixels() => {}
             Background::Occupancy(grid) => {
                 if c >= 8 {
                     self.draw_grid_lines(root)?;
@@ -848,7 +894,7 @@ impl Scene<'_> {
     fn draw_overlays<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> DResult {
         // Geometry is user data: nothing may reach plotters with coordinates or radii so big
         // that its rasterisers overflow or spin, so sizes are capped and lines clipped.
-        let c = self.cell as f32;
+        let c = self.scale() as f32;
         let canvas = (self.width_px + self.height_px) as f32;
         for d in self.parts.discs {
             if !d.radius_cells.is_finite() {
@@ -965,12 +1011,18 @@ impl Scene<'_> {
     }
 
     fn draw_axes<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> DResult {
-        let (w, h, c) = (self.parts.width as i32, self.parts.height as i32, self.cell);
+        let (w, h, c) = (
+            self.parts.width as i32,
+            self.parts.height as i32,
+            self.scale(),
+        );
+        // Centre of cell `k` along an axis, in pixels from the map's edge.
+        let centre = |k: i32| ((k as f64 + 0.5) * c).floor() as i32;
         let bottom = self.map_y + self.map_h();
         let axis = Style::solid(FRAME, 1.0);
-        let step_x = nice_step(48.0 / c as f64) as i32;
+        let step_x = nice_step(48.0 / c) as i32;
         for k in (0..w).step_by(step_x.max(1) as usize) {
-            let x = self.map_x + k * c + c / 2;
+            let x = self.map_x + centre(k);
             line(root, vec![(x, bottom), (x, bottom + TICK_LEN)], axis)?;
             text(
                 root,
@@ -980,9 +1032,9 @@ impl Scene<'_> {
                 Pos::new(HPos::Center, VPos::Top),
             )?;
         }
-        let step_y = nice_step(30.0 / c as f64) as i32;
+        let step_y = nice_step(30.0 / c) as i32;
         for k in (0..h).step_by(step_y.max(1) as usize) {
-            let y = self.map_y + k * c + c / 2;
+            let y = self.map_y + centre(k);
             line(
                 root,
                 vec![(self.map_x - TICK_LEN, y), (self.map_x, y)],
@@ -1059,7 +1111,7 @@ impl Scene<'_> {
         }
         // Scale bar.
         y += 8 - ROW_H / 2 + 6;
-        let len = self.scale_cells * self.cell;
+        let len = (self.scale_cells as f64 * self.scale()).round() as i32;
         let bar = Style::solid(FRAME, 2.0);
         line(root, vec![(x, y), (x + len, y)], bar)?;
         line(root, vec![(x, y - 5), (x, y + 5)], bar)?;
@@ -1121,10 +1173,10 @@ impl Scene<'_> {
 mod tests {
     use super::super::testutil::{png_size, temp_dir};
     use super::*;
-    use crate::maps::HostGrid;
+    use planner_core::grid::GridBuf;
 
-    fn small_grid() -> HostGrid {
-        HostGrid::parse_rows(
+    fn small_grid() -> GridBuf {
+        GridBuf::parse_rows(
             b"..........\n..........\n..@@@.....\n....@.....\n....@..@@.\n\
               ..........\n.@@.......\n..........\n.....@@@..\n..........\n",
         )
@@ -1296,7 +1348,7 @@ mod tests {
 
     #[test]
     fn big_map_stays_within_width_limits() {
-        let mut grid = HostGrid::new(340, 164).unwrap();
+        let mut grid = GridBuf::new(340, 164).unwrap();
         grid.set_blocked(3, 4, true).unwrap();
         let pic = MapPicture::new(grid.view(), "340 x 164");
         let (w, _) = pic.size_px().unwrap();
@@ -1304,6 +1356,56 @@ mod tests {
         let dir = temp_dir("big");
         pic.save_png(&dir.join("big.png")).unwrap();
         assert_eq!(png_size(&dir.join("big.png")).0, w);
+        std::fs::remove_dir_all(dir).unwrap();
+    }
+
+    #[test]
+    fn maps_over_max_px_are_downsampled_shaded_by_blocked_cells() {
+        // 4100 cells wide: 3 x 3 cells a pixel, 1367 pixels.
+        let mut grid = GridBuf::new(4100, 60).unwrap();
+        grid.set_blocked(3001, 31, true).unwrap(); // pixel (1000, 10)
+        grid.set_blocked(4099, 59, true).unwrap(); // pixel (1366, 19), a partial block
+        let path = [Point::new(10.0, 10.0), Point::new(4000.0, 50.0)];
+        let mut pic = MapPicture::new(grid.view(), "4100 x 60");
+        pic.layers
+            .push(Layer::new("path", &path, Style::palette(0)));
+        let scene = pic.scene().unwrap();
+        assert_eq!((scene.block, scene.map_w(), scene.map_h()), (3, 1367, 20));
+        assert!(scene.entries[0].text.contains("3 x 3 cells"));
+        let dir = temp_dir("downsampled");
+        let png = dir.join("d.png");
+        pic.save_png(&png).unwrap();
+        let (w, pixels) = decode(&png);
+        let at = |x: i32, y: i32| {
+            let i = ((scene.map_y + y) as usize * w + (scene.map_x + x) as usize) * 3;
+            [pixels[i], pixels[i + 1], pixels[i + 2]]
+        };
+        // One cell of nine, one of three (the last column holds 4099 alone).
+        assert!(at(1000, 10)[0] < 255 && at(1000, 10)[0] > at(1366, 19)[0]);
+        assert!(at(1366, 19) != BLOCKED && at(1366, 19) != [255, 255, 255]);
+        for (x, y) in [
+            (999, 10),
+            (1001, 10),
+            (1000, 9),
+            (1000, 11),
+            (1365, 19),
+            (1366, 18),
+        ] {
+            assert_eq!(at(x, y), [255, 255, 255], "({x}, {y})");
+        }
+        assert!(w < MAX_MAP_PX + 700, "{w}");
+        pic.save_svg(&dir.join("d.svg")).unwrap();
+        let svg = std::fs::read_to_string(dir.join("d.svg")).unwrap();
+        assert_eq!(svg.matches("<image ").count(), 1);
+        assert!(
+            svg.contains("width=\"1367\" height=\"20\""),
+            "no map image of 1367 x 20"
+        );
+        assert!(
+            svg.contains("3 x 3 cells") && svg.len() < 200_000,
+            "{} bytes",
+            svg.len()
+        );
         std::fs::remove_dir_all(dir).unwrap();
     }
 

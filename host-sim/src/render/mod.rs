@@ -19,11 +19,20 @@
 //! Drawing is done with `plotters`; PNG text uses the DejaVu Sans font compiled into the binary
 //! (`assets/DejaVuSans.ttf`), SVG text names the `sans-serif` family. Output files' parent
 //! directories are created when missing.
+//!
+//! Big maps: a map picture is at most [`MAX_MAP_PX`] pixels a side; a bigger map is
+//! downsampled, one pixel per block of cells, shaded from white (no cell blocked) to the
+//! blocked colour (all blocked) by the share of blocked cells.
+//! Wherever a cell is one pixel or less the occupancy is drawn as pixels (`raster`), not as
+//! rectangles.
 
+mod loglog;
 mod map;
 mod plot;
+mod raster;
 
-pub use map::{FieldPicture, MapPicture};
+pub use loglog::{Points, loglog_plot};
+pub use map::{FieldPicture, MAX_MAP_PX, MapPicture};
 pub use plot::{Series, convergence_plot};
 
 use anyhow::{Context, bail};
@@ -204,7 +213,12 @@ fn drawing_error(e: impl Display) -> anyhow::Error {
 trait Figure {
     /// Canvas size in pixels.
     fn size(&self) -> (u32, u32);
-    /// Draws on `root` (already filled white).
+    /// Pixels that go under everything [`draw`](Self::draw) draws (the writers paint them on
+    /// the white canvas first).
+    fn raster(&self) -> Option<raster::Raster> {
+        None
+    }
+    /// Draws on `root` (white, with the [`raster`](Self::raster) already on it).
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> anyhow::Result<()>;
 }
 
@@ -221,10 +235,13 @@ fn create_file(path: &Path) -> anyhow::Result<BufWriter<File>> {
 fn write_png(figure: &impl Figure, path: &Path) -> anyhow::Result<()> {
     ensure_font()?;
     let (w, h) = figure.size();
+    // White, then the raster, then the rest.
     let mut buf = vec![255u8; w as usize * h as usize * 3];
+    if let Some(r) = figure.raster() {
+        r.paint(&mut buf, (w, h));
+    }
     {
         let root = BitMapBackend::with_buffer(&mut buf, (w, h)).into_drawing_area();
-        root.fill(&WHITE).map_err(drawing_error)?;
         figure.draw(&root)?;
         root.present().map_err(drawing_error)?;
     }
@@ -243,12 +260,24 @@ fn write_png(figure: &impl Figure, path: &Path) -> anyhow::Result<()> {
 fn write_svg(figure: &impl Figure, path: &Path) -> anyhow::Result<()> {
     ensure_font()?;
     let mut text = String::new();
+    let (w, h) = figure.size();
     {
-        let root = SVGBackend::with_string(&mut text, figure.size()).into_drawing_area();
-        root.fill(&WHITE).map_err(drawing_error)?;
+        let root = SVGBackend::with_string(&mut text, (w, h)).into_drawing_area();
         figure.draw(&root)?;
         root.present().map_err(drawing_error)?;
     }
+    // The white canvas and the raster go first, right after the opening `<svg ...>` tag.
+    let mut under =
+        format!("\n<rect x=\"0\" y=\"0\" width=\"{w}\" height=\"{h}\" fill=\"#FFFFFF\"/>");
+    if let Some(r) = figure.raster() {
+        under.push('\n');
+        under.push_str(&r.svg_image()?);
+    }
+    let open_end = text
+        .find("<svg")
+        .and_then(|i| text[i..].find('>').map(|j| i + j + 1))
+        .ok_or_else(|| anyhow::anyhow!("drawing failed: no <svg> element"))?;
+    text.insert_str(open_end, &under);
     // Cells are adjacent rectangles: without crisp edges, viewers' anti-aliasing shows hairline
     // seams between them.
     let text = text.replace("<rect ", "<rect shape-rendering=\"crispEdges\" ");

@@ -52,7 +52,7 @@ fn client(prefix: &str) -> anyhow::Result<PlannerClient> {
         ),
         ..ClientConfig::default()
     };
-    PlannerClient::new(config).map_err(|e| anyhow::anyhow!("iceoryx2 client: {e:?}"))
+    PlannerClient::new(config).map_err(|e| anyhow::anyhow!("iceoryx2 client: {e}"))
 }
 
 impl IpcPlanner {
@@ -181,7 +181,7 @@ impl Drop for IpcPlanner {
 fn failure(e: ClientError) -> PlanFailure {
     match e {
         ClientError::Plan(p) => p.into(),
-        other => PlanFailure::Transport(format!("{other:?}")),
+        other => PlanFailure::Transport(other.to_string()),
     }
 }
 
@@ -234,5 +234,32 @@ impl GlobalPlanner for IpcPlanner {
             evaluations: ok.evaluations as u64,
             time: t0.elapsed(),
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use planner_ipc::client::{MapTooLarge, Refusal};
+
+    /// Transport failures carry the client error's message (naming the limit and the flag
+    /// that raises it), not its `Debug` form.
+    #[test]
+    fn transport_failures_print_the_message() {
+        let e = ClientError::MapTooLarge(MapTooLarge {
+            size: Some((5000, 5000)),
+            max_cells: Some(4096 * 4096),
+            refused_by: Refusal::Client,
+        });
+        let want = e.to_string();
+        assert!(want.contains("--max-cells 25000000"), "{want}");
+        match failure(e) {
+            PlanFailure::Transport(message) => assert_eq!(message, want),
+            other => panic!("{other:?}"),
+        }
+        assert_eq!(
+            failure(ClientError::Timeout).to_string(),
+            "transport: the server did not answer in time"
+        );
     }
 }

@@ -3,11 +3,11 @@
 
 use super::kinematics::DiffDrive;
 use super::pathfit::{self, FitParams};
-use super::planner::{GlobalPlanner, PlanFailure, PlanRequest, PlannedPath, copy_grid};
+use super::planner::{GlobalPlanner, PlanFailure, PlanRequest, PlannedPath};
 use super::world::{Agent, Kind, World};
-use crate::maps::HostGrid;
 use planner_core::dwa::{Dwa, DwaConfig, DwaState, Event, distance_to_polyline, point_clearance};
 use planner_core::geometry::{Cell, Point};
+use planner_core::grid::GridBuf;
 use planner_core::planner::{PlanParams, PlannerKind};
 
 /// Everything that defines a mission.
@@ -16,7 +16,7 @@ pub struct MissionSpec {
     /// Name for tables and titles.
     pub name: String,
     /// The static map.
-    pub grid: Box<HostGrid>,
+    pub grid: GridBuf,
     /// Start pose (`v = w = 0` normally).
     pub start: DwaState,
     /// Goal cell.
@@ -247,7 +247,7 @@ pub fn run_with_progress(
         result.outcome = Outcome::PlanFailed("invalid DWA configuration".into());
         return result;
     };
-    let mut world = World::new(grid, spec.seed ^ 0x5151_0000);
+    let mut world = World::new(spec.seed ^ 0x5151_0000);
     world.agents = spec.agents.clone();
     let keep_clear = [spec.start.position(), goal_pt];
     world.add_random(grid, Kind::Person, spec.people, &keep_clear);
@@ -305,31 +305,29 @@ pub fn run_with_progress(
             // Mark the cells under nearby standing obstacles (and anything touching the
             // robot's way within 3 cells when stuck) as blocked on a copy of the map.
             let robot_cell = state.position().cell(grid);
-            let mut tmp = copy_grid(grid).ok();
-            if let Some(tmp) = tmp.as_mut() {
-                for a in &world.agents {
-                    let near = a.pos.distance(state.position()) < 8.0;
-                    if !near || (a.moving() && reason == "blocked") {
-                        continue;
-                    }
-                    let reach = a.radius + radius;
-                    let (cx, cy) = (a.pos.x.round() as isize, a.pos.y.round() as isize);
-                    for y in cy - 2..=cy + 2 {
-                        for x in cx - 2..=cx + 2 {
-                            let c = (x, y);
-                            if !grid.contains(x, y) || square_distance(a.pos, c) >= reach - 0.2 {
-                                continue;
-                            }
-                            let cell = Cell::new(x as u16, y as u16);
-                            if Some(cell) == robot_cell || cell == spec.goal {
-                                continue;
-                            }
-                            let _ = tmp.set_blocked(x as usize, y as usize, true);
+            let mut tmp = GridBuf::from_view(grid);
+            for a in &world.agents {
+                let near = a.pos.distance(state.position()) < 8.0;
+                if !near || (a.moving() && reason == "blocked") {
+                    continue;
+                }
+                let reach = a.radius + radius;
+                let (cx, cy) = (a.pos.x.round() as isize, a.pos.y.round() as isize);
+                for y in cy - 2..=cy + 2 {
+                    for x in cx - 2..=cx + 2 {
+                        let c = (x, y);
+                        if !grid.contains(x, y) || square_distance(a.pos, c) >= reach - 0.2 {
+                            continue;
                         }
+                        let cell = Cell::new(x as u16, y as u16);
+                        if Some(cell) == robot_cell || cell == spec.goal {
+                            continue;
+                        }
+                        let _ = tmp.set_blocked(x as usize, y as usize, true);
                     }
                 }
             }
-            if let (Some(tmp), Some(from)) = (tmp, robot_cell) {
+            if let Some(from) = robot_cell {
                 replan_seed = replan_seed.wrapping_add(0x9E37_79B9_7F4A_7C15);
                 let planned = planner
                     .set_map(tmp.view())

@@ -119,12 +119,12 @@ pub fn length(path: &[Point]) -> f32 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::maps::HostGrid;
+    use planner_core::grid::GridBuf;
 
     #[test]
     fn centres_a_path_in_a_one_cell_aisle_and_keeps_its_ends() {
         let rows = "..........\n@@@@.@@@@@\n@@@@.@@@@@\n@@@@.@@@@@\n..........";
-        let g = HostGrid::parse_rows(rows.as_bytes()).unwrap();
+        let g = GridBuf::parse_rows(rows.as_bytes()).unwrap();
         // A path hugging the left wall of the aisle (x = 3.6 instead of 4).
         let path = [
             Point::new(0.0, 0.0),

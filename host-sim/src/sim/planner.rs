@@ -3,10 +3,9 @@
 //! [`super::ipc::IpcPlanner`], a client of `planner-server` over iceoryx2, implements the
 //! same trait (`--planner ipc`).
 
-use crate::maps::HostGrid;
 use planner_core::PlanError;
 use planner_core::geometry::{Cell, Point};
-use planner_core::grid::GridRef;
+use planner_core::grid::{GridBuf, GridRef};
 use planner_core::path::{Path, PathView};
 use planner_core::planner::aco::AcoParams;
 use planner_core::planner::owned::HostPlanner;
@@ -96,7 +95,7 @@ pub trait GlobalPlanner {
 /// `planner-core` in this process.
 pub struct InProcess {
     planner: HostPlanner,
-    grid: Option<Box<HostGrid>>,
+    grid: Option<GridBuf>,
     out: Box<Path<{ 1 << 16 }>>,
     aco: AcoParams,
 }
@@ -119,30 +118,13 @@ impl InProcess {
     }
 }
 
-/// Copies a grid view into an owned host grid.
-pub fn copy_grid(grid: GridRef<'_>) -> Result<Box<HostGrid>, PlanFailure> {
-    let mut own = Box::new(
-        HostGrid::new(grid.width(), grid.height())
-            .map_err(|_| PlanFailure::Planner(PlanError::CapacityExceeded))?,
-    );
-    for y in 0..grid.height() {
-        for x in 0..grid.width() {
-            if grid.is_blocked(x as isize, y as isize) {
-                own.set_blocked(x, y, true)
-                    .map_err(|_| PlanFailure::Planner(PlanError::CapacityExceeded))?;
-            }
-        }
-    }
-    Ok(own)
-}
-
 impl GlobalPlanner for InProcess {
     fn name(&self) -> &'static str {
         "inproc"
     }
 
     fn set_map(&mut self, grid: GridRef<'_>) -> Result<(), PlanFailure> {
-        let own = copy_grid(grid)?;
+        let own = GridBuf::from_view(grid);
         self.planner.prepare(own.view())?;
         self.grid = Some(own);
         Ok(())

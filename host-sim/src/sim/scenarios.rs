@@ -3,9 +3,9 @@
 use super::kinematics::DiffDrive;
 use super::mission::{MissionSpec, Outcome};
 use super::world::{Agent, Behaviour, Kind};
-use crate::maps::HostGrid;
 use planner_core::dwa::{DwaConfig, DwaState};
 use planner_core::geometry::{Cell, Point};
+use planner_core::grid::GridBuf;
 use planner_core::optim::any::AlgorithmKind;
 use planner_core::planner::{PlanParams, PlannerKind};
 use std::f32::consts::{FRAC_PI_2, PI};
@@ -45,7 +45,7 @@ impl Scenario {
     /// The mission of this scenario.
     pub fn mission(&self, algo: PlannerKind, seed: u64) -> anyhow::Result<MissionSpec> {
         let text = self.rows.join("\n");
-        let grid = Box::new(HostGrid::parse_rows(text.as_bytes()).map_err(anyhow::Error::msg)?);
+        let grid = GridBuf::parse_rows(text.as_bytes()).map_err(anyhow::Error::msg)?;
         Ok(MissionSpec {
             name: self.name.to_string(),
             grid,

@@ -116,32 +116,100 @@ impl Agent {
     }
 }
 
+/// Errands go to any free cell on maps of up to this many cells a side; on bigger maps to a
+/// free cell at most this many cells away along each axis (a person walks to a nearby aisle,
+/// not across the hall), so that errand searches stay small.
+pub const ERRAND_REACH: usize = 128;
+
+/// Most open-list slots of an errand search (a search that outgrows them is a failed
+/// errand; the reach keeps the frontier far below).
+const ERRAND_OPEN: usize = 1 << 16;
+
 /// The dynamic obstacles of a mission.
 pub struct World {
     /// The obstacles.
     pub agents: Vec<Agent>,
     rng: Xoshiro256PlusPlus,
+    /// Made when the first random mover needs it, so that a mission without random movers
+    /// allocates nothing per cell.
+    errands: Option<Errands>,
+    path: Box<Path<4096>>,
+}
+
+/// Scratch of the errand searches: A* nodes (4 bytes a cell), a bounded open list, and on
+/// maps within [`ERRAND_REACH`] a side the list of free cells (4 bytes a free cell).
+struct Errands {
     nodes: Vec<AStarNode>,
     open: Vec<OpenSlot>,
-    path: Box<Path<4096>>,
+    /// Every free cell on small maps; empty on big ones, where cells are drawn at random.
     free: Vec<Cell>,
+    small: bool,
+}
+
+impl Errands {
+    fn new(grid: GridRef<'_>) -> Self {
+        let small = grid.width() <= ERRAND_REACH && grid.height() <= ERRAND_REACH;
+        let free = if small {
+            (0..grid.cells())
+                .map(|i| grid.cell(i))
+                .filter(|c| grid.is_free(*c))
+                .collect()
+        } else {
+            Vec::new()
+        };
+        Errands {
+            nodes: vec![AStarNode::EMPTY; grid.cells()],
+            open: vec![OpenSlot::EMPTY; open_capacity(grid.cells()).min(ERRAND_OPEN)],
+            free,
+            small,
+        }
+    }
+
+    /// A random free cell: from the list on small maps (`None` when there is none; `near` is
+    /// ignored), else one of 64 draws within [`ERRAND_REACH`] of `near` (anywhere without
+    /// it).
+    fn draw(
+        &self,
+        rng: &mut Xoshiro256PlusPlus,
+        grid: GridRef<'_>,
+        near: Option<Cell>,
+    ) -> Option<Cell> {
+        if self.small {
+            return (!self.free.is_empty()).then(|| self.free[index(rng, self.free.len())]);
+        }
+        let span = |c: usize, len: usize| match near {
+            Some(_) => (
+                c.saturating_sub(ERRAND_REACH),
+                (c + ERRAND_REACH).min(len - 1),
+            ),
+            None => (0, len - 1),
+        };
+        let at = near.unwrap_or_default();
+        let (x0, x1) = span(at.x as usize, grid.width());
+        let (y0, y1) = span(at.y as usize, grid.height());
+        (0..64).find_map(|_| {
+            let x = x0 + index(rng, x1 - x0 + 1);
+            let y = y0 + index(rng, y1 - y0 + 1);
+            let c = Cell::new(x as u16, y as u16);
+            grid.is_free(c).then_some(c)
+        })
+    }
 }
 
 impl World {
-    /// A world on `grid` with its own random stream.
-    pub fn new(grid: GridRef<'_>, seed: u64) -> Self {
-        let free = (0..grid.cells())
-            .map(|i| grid.cell(i))
-            .filter(|c| grid.is_free(*c))
-            .collect();
+    /// A world with its own random stream (its grid comes with each call).
+    pub fn new(seed: u64) -> Self {
         World {
             agents: Vec::new(),
             rng: Xoshiro256PlusPlus::seed_from_u64(seed),
-            nodes: vec![AStarNode::EMPTY; grid.cells()],
-            open: vec![OpenSlot::EMPTY; open_capacity(grid.cells())],
+            errands: None,
             path: Box::new(Path::new()),
-            free,
         }
+    }
+
+    /// The errand scratch, made on first use.
+    fn errands(&mut self, grid: GridRef<'_>) -> &mut Errands {
+        self.errands.get_or_insert_with(|| Errands::new(grid))
     }
 
     /// A random errand route from `from`, avoiding cells within 2 of `avoid` as goals.
@@ -158,16 +226,22 @@ impl World {
         let Some(start) = from.cell(grid) else {
             return vec![from];
         };
+        self.errands(grid);
+        let World {
+            rng, errands, path, ..
+        } = self;
+        let Some(e) = errands.as_mut() else {
+            return vec![from];
+        };
         for _ in 0..20 {
-            if self.free.is_empty() {
+            let Some(goal) = e.draw(rng, grid, Some(start)) else {
                 break;
-            }
-            let goal = self.free[index(&mut self.rng, self.free.len())];
+            };
             if avoid.iter().any(|a| a.distance(goal.center()) < 2.5) {
                 continue;
             }
-            let out: &mut PathView = &mut *self.path;
-            if astar::plan(grid, start, goal, &mut self.nodes, &mut self.open, out).is_ok() {
+            let out: &mut PathView = &mut **path;
+            if astar::plan(grid, start, goal, &mut e.nodes, &mut e.open, out).is_ok() {
                 let mut route = vec![from];
                 route.extend(out.iter().skip(1));
                 return route;
@@ -176,7 +250,9 @@ impl World {
         vec![from]
     }
 
-    /// Adds `count` random movers of `kind` at free cells away from `keep_clear`.
+    /// Adds `count` random movers of `kind` at free cells away from `keep_clear` (on maps over
+    /// [`ERRAND_REACH`] a side, within reach of its first point, the robot's start, so that
+    /// they share its part of the hall).
     pub fn add_random(
         &mut self,
         grid: GridRef<'_>,
@@ -184,13 +260,20 @@ impl World {
         count: usize,
         keep_clear: &[Point],
     ) {
+        if count == 0 {
+            return;
+        }
+        self.errands(grid);
+        let near = keep_clear.first().and_then(|p| p.cell(grid));
         for _ in 0..count {
             let mut at = None;
             for _ in 0..50 {
-                if self.free.is_empty() {
+                let Some(e) = self.errands.as_ref() else {
                     break;
-                }
-                let c = self.free[index(&mut self.rng, self.free.len())];
+                };
+                let Some(c) = e.draw(&mut self.rng, grid, near) else {
+                    break;
+                };
                 if keep_clear.iter().all(|p| p.distance(c.center()) > 3.0) {
                     at = Some(c.center());
                     break;
@@ -307,5 +390,55 @@ impl World {
     /// The discs the local planner sees.
     pub fn discs(&self) -> Vec<DynamicDisc> {
         self.agents.iter().map(Agent::disc).collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use planner_core::grid::GridBuf;
+
+    /// An open `w x h` floor with a wall across its middle row (a gap at the left end).
+    fn floor(w: usize, h: usize) -> GridBuf {
+        let mut g = GridBuf::new(w, h).unwrap();
+        for x in 2..w {
+            g.set_blocked(x, h / 2, true).unwrap();
+        }
+        g
+    }
+
+    #[test]
+    fn no_random_movers_no_errand_scratch() {
+        let g = floor(40, 30);
+        let mut world = World::new(1);
+        world.add_random(g.view(), Kind::Person, 0, &[]);
+        assert!(world.errands.is_none());
+        world.add_random(g.view(), Kind::Person, 2, &[]);
+        let e = world.errands.as_ref().unwrap();
+        assert!(e.small && e.nodes.len() == 1200 && e.free.len() == 1200 - 38);
+        assert_eq!(world.agents.len(), 2);
+    }
+
+    #[test]
+    fn movers_on_big_maps_start_near_the_robot_and_run_errands_within_reach() {
+        let g = floor(1000, 600);
+        let v = g.view();
+        let robot = Point::new(700.0, 100.0);
+        let mut world = World::new(7);
+        world.add_random(v, Kind::Robot, 6, &[robot]);
+        let e = world.errands.as_ref().unwrap();
+        assert!(!e.small && e.free.is_empty() && e.open.len() == ERRAND_OPEN);
+        assert_eq!(world.agents.len(), 6);
+        let mut moving = 0;
+        for a in &world.agents {
+            assert!(a.route.iter().all(|p| v.is_free(p.cell(v).unwrap())));
+            let (from, to) = (a.route[0], *a.route.last().unwrap());
+            let reach = ERRAND_REACH as f32;
+            assert!((from.x - to.x).abs() <= reach && (from.y - to.y).abs() <= reach);
+            assert!((from.x - robot.x).abs() <= reach && (from.y - robot.y).abs() <= reach);
+            assert!(from.distance(robot) > 3.0);
+            moving += usize::from(a.route.len() > 1);
+        }
+        assert!(moving >= 4, "{moving} of 6 movers got an errand");
     }
 }

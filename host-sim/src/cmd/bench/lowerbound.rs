@@ -11,7 +11,7 @@
 
 use super::movingai::{ScenRow, WAREHOUSES, read_scen};
 use super::{fmt, mean_std, print_table, progress, write_csv, write_json};
-use crate::maps::load_movingai;
+use crate::mapsrc::{MapOptions, load_map};
 use anyhow::Context;
 use planner_core::path::{Path, PathView};
 use planner_core::search::visibility::VisibilityGraph;
@@ -38,6 +38,9 @@ pub struct LowerboundArgs {
     /// Output folder.
     #[arg(long, default_value = "bench-out/lowerbound")]
     pub out: PathBuf,
+    /// Size limit of the loaded maps.
+    #[command(flatten)]
+    pub limits: MapOptions,
 }
 
 #[derive(Serialize)]
@@ -87,7 +90,7 @@ pub fn run(args: &LowerboundArgs) -> anyhow::Result<()> {
     let mut summaries = Vec::new();
     let mut per_row = Vec::new();
     for name in &maps {
-        let grid = load_movingai(&args.data.join(format!("{name}.map")))?;
+        let grid = load_map(&args.data.join(format!("{name}.map")), &args.limits)?.grid;
         let view = grid.view();
         let scen_path = args.data.join(format!("{name}-random-1.scen"));
         let text = std::fs::read_to_string(&scen_path)

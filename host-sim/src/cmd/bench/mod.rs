@@ -5,6 +5,9 @@
 pub mod lowerbound;
 pub mod movingai;
 pub mod paper;
+#[cfg(feature = "polyanya")]
+mod polyanya;
+pub mod scale;
 pub mod speed;
 
 use indicatif::{ProgressBar, ProgressStyle};
@@ -29,6 +32,9 @@ enum Which {
     /// Lower bound on any valid path's length (shortest path touching obstacles) on the
     /// Moving AI warehouse rows.
     Lowerbound(lowerbound::LowerboundArgs),
+    /// Generated warehouses from 256 to 4096 cells a side: time per query against A*, length
+    /// against the exact any-angle path, peak memory, and a log-log plot.
+    Scale(scale::ScaleArgs),
 }
 
 /// Runs `host-sim bench`.
@@ -38,6 +44,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         Which::Movingai(a) => movingai::run(a),
         Which::Speed(a) => speed::run(a),
         Which::Lowerbound(a) => lowerbound::run(a),
+        Which::Scale(a) => scale::run(a),
     }
 }
 

@@ -6,7 +6,7 @@
 //! ([`crate::validate`]); a planner error on these (all reachable) rows counts as invalid.
 
 use super::{fmt, mean_std, print_table, progress, write_csv, write_json};
-use crate::maps::load_movingai;
+use crate::mapsrc::{MapOptions, load_map};
 use anyhow::Context;
 use planner_core::geometry::Cell;
 use planner_core::optim::any::AlgorithmKind;
@@ -55,11 +55,14 @@ pub struct MovingaiArgs {
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
     /// The corridor encoding's guide route.
-    #[arg(long, value_enum, default_value_t = crate::cmd::plan::GuideArg::Visibility)]
+    #[arg(long, value_enum, default_value_t = crate::cmd::plan::GuideArg::Anyangle)]
     pub guide: crate::cmd::plan::GuideArg,
     /// Output folder.
     #[arg(long, default_value = "bench-out/movingai")]
     pub out: PathBuf,
+    /// Size limit of the loaded maps.
+    #[command(flatten)]
+    pub limits: MapOptions,
 }
 
 /// A scenario row.
@@ -140,7 +143,7 @@ pub fn run(args: &MovingaiArgs) -> anyhow::Result<()> {
     };
     let mut summaries = Vec::new();
     for name in &maps {
-        let grid = load_movingai(&args.data.join(format!("{name}.map")))?;
+        let grid = load_map(&args.data.join(format!("{name}.map")), &args.limits)?.grid;
         let scen_path = args.data.join(format!("{name}-random-1.scen"));
         let text = std::fs::read_to_string(&scen_path)
             .with_context(|| format!("cannot read {}", scen_path.display()))?;

@@ -9,11 +9,10 @@
 //! PSO, GA with the 8-connected walk encoding.
 
 use super::{fmt, mean_std, print_table, progress, write_csv, write_json};
-use crate::maps::HostGrid;
 use anyhow::Context;
 use planner_core::encoding::walk::CornerRule;
 use planner_core::geometry::Cell;
-use planner_core::grid::words_for;
+use planner_core::grid::{GridBuf, words_for};
 use planner_core::maps::{MapKind, SeedMap, lab_20x20, seed000};
 use planner_core::optim::any::AlgorithmKind;
 use planner_core::path::{Path, PathView};
@@ -99,24 +98,14 @@ pub struct Row {
     pub success_rate: f64,
 }
 
-type Big = HostGrid;
-
-fn to_host<const W: usize>(m: &SeedMap<W>) -> anyhow::Result<Box<Big>> {
-    let v = m.grid.view();
-    let mut g = Box::new(Big::new(v.width(), v.height()).map_err(anyhow::Error::msg)?);
-    for y in 0..v.height() {
-        for x in 0..v.width() {
-            g.set_blocked(x, y, v.is_blocked(x as isize, y as isize))
-                .map_err(anyhow::Error::msg)?;
-        }
-    }
-    Ok(g)
+fn to_host<const W: usize>(m: &SeedMap<W>) -> GridBuf {
+    GridBuf::from_view(m.grid.view())
 }
 
 struct Case {
     table: &'static str,
     name: String,
-    grid: Box<Big>,
+    grid: GridBuf,
     start: Cell,
     goal: Cell,
 }
@@ -133,7 +122,7 @@ fn cases() -> anyhow::Result<(Vec<Case>, Case)> {
             seed000_cases.push(Case {
                 table,
                 name: format!("{}-{size}x{size}", kind.name()),
-                grid: to_host(&m)?,
+                grid: to_host(&m),
                 start: m.start,
                 goal: m.goal,
             });
@@ -143,7 +132,7 @@ fn cases() -> anyhow::Result<(Vec<Case>, Case)> {
     let lab_case = Case {
         table: "seed003-table3",
         name: "lab-20x20".into(),
-        grid: to_host(&lab)?,
+        grid: to_host(&lab),
         start: lab.start,
         goal: lab.goal,
     };

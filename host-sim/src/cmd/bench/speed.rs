@@ -9,16 +9,16 @@
 //! the ratio to A* can fall at these settings.
 
 use super::{fmt, mean_std, print_table, write_json};
-use crate::maps::{HostGrid, load_movingai};
+use crate::mapsrc::{MapOptions, load_map};
 use anyhow::Context;
-use planner_core::grid::words_for;
+use planner_core::grid::{GridBuf, words_for};
 use planner_core::maps::{MapKind, seed000};
 use planner_core::optim::any::{AlgorithmKind, AnyOptimizer};
 use planner_core::optim::{Bounds, Optimizer, Settings, Stop};
 use planner_core::path::{Path, PathView};
 use planner_core::planner::aco::AcoParams;
 use planner_core::planner::owned::HostPlanner;
-use planner_core::planner::{EncodingKind, GuideKind, PlanParams, PlannerKind};
+use planner_core::planner::{EncodingKind, PlanParams, PlannerKind};
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -43,11 +43,14 @@ pub struct SpeedArgs {
     #[arg(long, default_value_t = 50)]
     pub stagnation: u32,
     /// The corridor encoding's guide route (the Moving AI map).
-    #[arg(long, value_enum, default_value_t = crate::cmd::plan::GuideArg::Visibility)]
+    #[arg(long, value_enum, default_value_t = crate::cmd::plan::GuideArg::Anyangle)]
     pub guide: crate::cmd::plan::GuideArg,
     /// Output folder.
     #[arg(long, default_value = "bench-out/speed")]
     pub out: PathBuf,
+    /// Size limit of the loaded maps.
+    #[command(flatten)]
+    pub limits: MapOptions,
 }
 
 /// Runs `host-sim bench speed`.
@@ -56,18 +59,7 @@ pub fn run(args: &SpeedArgs) -> anyhow::Result<()> {
         .with_context(|| format!("cannot create {}", args.out.display()))?;
     let seed_map = seed000::<{ words_for(40, 40) }>(MapKind::Warehouse, 40)
         .map_err(|e| anyhow::anyhow!("{e:?}"))?;
-    let mut seed_grid = Box::new(HostGrid::new(40, 40).map_err(anyhow::Error::msg)?);
-    for y in 0..40 {
-        for x in 0..40 {
-            seed_grid
-                .set_blocked(
-                    x,
-                    y,
-                    seed_map.grid.view().is_blocked(x as isize, y as isize),
-                )
-                .map_err(anyhow::Error::msg)?;
-        }
-    }
+    let seed_grid = GridBuf::from_view(seed_map.grid.view());
     let seed_rows = vec![
         ScenRow {
             start: seed_map.start,
@@ -76,7 +68,7 @@ pub fn run(args: &SpeedArgs) -> anyhow::Result<()> {
         };
         args.repeats
     ];
-    let wh = load_movingai(&args.data.join("warehouse-10-20-10-2-1.map"))?;
+    let wh = load_map(&args.data.join("warehouse-10-20-10-2-1.map"), &args.limits)?.grid;
     let text = std::fs::read_to_string(args.data.join("warehouse-10-20-10-2-1-random-1.scen"))?;
     let wh_rows: Vec<ScenRow> = read_scen(&text)?
         .into_iter()
@@ -94,7 +86,7 @@ pub fn run(args: &SpeedArgs) -> anyhow::Result<()> {
 
     let mut table = Vec::new();
     let mut records = Vec::new();
-    let cases: [(&str, &HostGrid, &[ScenRow], EncodingKind); 3] = [
+    let cases: [(&str, &GridBuf, &[ScenRow], EncodingKind); 3] = [
         (
             "seed000 warehouse 40x40",
             &seed_grid,
@@ -170,17 +162,6 @@ pub fn run(args: &SpeedArgs) -> anyhow::Result<()> {
             guide: args.guide.kind(),
             ..PlanParams::new(AlgorithmKind::Tclhho)
         };
-        if encoding == EncodingKind::Corridor && args.guide.kind() == GuideKind::Visibility {
-            let began = Instant::now();
-            // Built here, on the planner that then uses it, to time it apart from the plans.
-            let vg = planner.visibility_graph(grid.view());
-            println!(
-                "{name}: visibility graph of {} corners and {} edges built in {:.1} ms (once per map)",
-                vg.vertices(),
-                vg.edges(),
-                began.elapsed().as_secs_f64() * 1e3
-            );
-        }
         let (t_astar, l_astar, _) = time(&mut planner, &mut *out, PlannerKind::AStar, &base);
         table.push(vec![
             name.into(),
