@@ -637,7 +637,7 @@ fn record_upload(uploads: &mut HashMap<u32, Upload>, header: &MapHeader) {
 /// it in place, then [`publish`](Self::publish) it; the server plans on this memory.
 ///
 /// The frame holds the map twice, row-major and column-major (see
-/// [`MapHeader`](crate::wire::MapHeader)): [`grid`](Self::grid) writes both at once. A
+/// [`MapHeader`]): [`grid`](Self::grid) writes both at once. A
 /// caller writing raw words through [`words_mut`](Self::words_mut) must write both layouts
 /// of the same map; the server does not check that they agree unless it runs with
 /// `--verify-maps`.
@@ -650,7 +650,7 @@ pub struct MapLoan<'a, S: Service> {
 
 impl<S: Service> MapLoan<'_, S> {
     /// The frame's header (its layout is
-    /// [`LAYOUT_ROWS_AND_COLUMNS`](crate::wire::LAYOUT_ROWS_AND_COLUMNS)).
+    /// [`LAYOUT_ROWS_AND_COLUMNS`]).
     pub fn header(&self) -> &MapHeader {
         &self.header
     }
@@ -665,7 +665,7 @@ impl<S: Service> MapLoan<'_, S> {
     }
 
     /// The raw words: the row-major bits and the column-major bits, `words_for(width,
-    /// height)` each (layouts as documented on [`MapHeader`](crate::wire::MapHeader)).
+    /// height)` each (layouts as documented on [`MapHeader`]).
     pub fn words_mut(&mut self) -> (&mut [u32], &mut [u32]) {
         self.sample.payload_mut().split_at_mut(self.words)
     }

@@ -94,7 +94,7 @@ impl<F: FrameWords> MapCells<F> {
 }
 
 /// A grid ready for queries (possibly inflated); each worker's planner labels its
-/// components once per grid it meets (by [`id`](Self::id)).
+/// components once per grid it meets (by its `id`).
 pub struct Prepared<F = NoFrame> {
     /// Unique for the life of the process: what a worker's scratch remembers (not the
     /// `Arc`, which would keep a frame borrowed after its map was replaced).

@@ -103,6 +103,9 @@ pub struct Query {
     pub goal: Endpoint,
 }
 
+/// A query's start and goal cells `((x, y), (x, y))`, as read (range is the planner's job).
+pub type CellPair = ((i64, i64), (i64, i64));
+
 impl Query {
     /// A query between two cells.
     pub fn cells(start: (i64, i64), goal: (i64, i64)) -> Self {
@@ -113,7 +116,7 @@ impl Query {
     }
 
     /// Both ends as cells, or the error line of the first one off the map.
-    pub fn resolve(&self, frame: &MapFrame) -> Result<((i64, i64), (i64, i64)), ErrorLine> {
+    pub fn resolve(&self, frame: &MapFrame) -> Result<CellPair, ErrorLine> {
         Ok((
             self.start.resolve(frame, "Start")?,
             self.goal.resolve(frame, "Goal")?,
@@ -137,7 +140,7 @@ pub struct LineContext<'a> {
 /// map), `result` the path or the error.
 pub fn plan_line(
     query: &Query,
-    cells: Option<((i64, i64), (i64, i64))>,
+    cells: Option<CellPair>,
     result: Result<PathLine<'_>, ErrorLine>,
     time_us: f64,
     ctx: &LineContext<'_>,
@@ -242,7 +245,7 @@ pub fn explain(
     error: ErrorLine,
     raw: GridRef<'_>,
     unknown: Option<GridRef<'_>>,
-    cells: ((i64, i64), (i64, i64)),
+    cells: CellPair,
     radius: Option<&str>,
 ) -> ErrorLine {
     let (which, (x, y)) = match error.name.as_str() {

@@ -463,7 +463,7 @@ fn to_cell((x, y): (i64, i64)) -> Option<Cell> {
 /// `planner-client`).
 pub fn outcome_json(
     query: &jsonl::Query,
-    cells: ((i64, i64), (i64, i64)),
+    cells: jsonl::CellPair,
     outcome: &Outcome,
     error: impl FnOnce(PlanError) -> ErrorLine,
     ctx: &LineContext<'_>,
