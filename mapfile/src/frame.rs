@@ -96,8 +96,8 @@ impl MapFrame {
             point: [wx, wy],
             extent: self.extent(),
         };
-        let column = ((wx - self.origin[0]) / self.resolution).floor();
-        let row_up = ((wy - self.origin[1]) / self.resolution).floor();
+        let column = cell_floor((wx - self.origin[0]) / self.resolution);
+        let row_up = cell_floor((wy - self.origin[1]) / self.resolution);
         let inside = |v: f64, n: usize| v >= 0.0 && v < n as f64 && v <= u16::MAX as f64;
         if !(inside(column, self.width) && inside(row_up, self.height)) {
             return Err(outside);
@@ -133,6 +133,18 @@ impl MapFrame {
     /// (Nav2 plans on cell centres the same way, with an inscribed radius).
     pub fn inflation_cells(&self, radius_m: f64) -> f64 {
         (self.cells_of(radius_m) - 0.5).max(0.0)
+    }
+}
+
+/// `floor` of a position in cells, where a position within rounding of a cell edge counts
+/// as on it: `(1.7 + 10) / 0.05` is 233.99999999999997 in binary, and the user meant the
+/// edge at 234.
+fn cell_floor(v: f64) -> f64 {
+    let edge = v.round();
+    if (v - edge).abs() <= 1e-9 * edge.abs().max(1.0) {
+        edge
+    } else {
+        v.floor()
     }
 }
 
@@ -197,6 +209,10 @@ mod tests {
         assert_eq!(f.cell_at(-10.0, -10.5), Ok(Cell::new(0, 199)));
         assert_eq!(f.cell_at(-9.951, -10.451), Ok(Cell::new(0, 199)));
         assert_eq!(f.extent(), [[-10.0, -10.5], [-10.0 + 384.0 * 0.05, -0.5]]);
+        // A point on a cell edge belongs to the cell right of it (above it), though
+        // (1.7 + 10) / 0.05 is just below 234 in binary.
+        assert_eq!(f.cell_at(1.7, -10.0), Ok(Cell::new(234, 189)));
+        assert_eq!(f.cell_at(1.6999, -10.0001), Ok(Cell::new(233, 190)));
     }
 
     #[test]
