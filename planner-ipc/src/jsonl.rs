@@ -276,6 +276,61 @@ pub fn explain(
     }
 }
 
+/// The robot radius planned for on a map with a world frame when none is given (m): a
+/// typical warehouse AMR.
+pub const DEFAULT_ROBOT_RADIUS_M: f64 = 0.25;
+
+/// How much a query's map is inflated, the one rule of `host-sim plan`, `run` and
+/// `planner-client`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Inflation {
+    /// The radius of `GridBuf::inflated` (cells; 0 = none).
+    pub cells: f64,
+    /// How messages name it (`0.25 m (4.5 cells)`, `of 2 cells`); `None` without inflation.
+    pub text: Option<String>,
+}
+
+/// The inflation of `--radius` (cells) or `--robot-radius` (metres, which needs the map's
+/// declared world frame), or, with neither, [`DEFAULT_ROBOT_RADIUS_M`] on a map with a world
+/// frame and none on a map in cells. `--robot-radius 0` plans for a point. The error says
+/// which value is wrong (the caller names the map).
+pub fn inflation(
+    radius: Option<f32>,
+    robot_radius: Option<f64>,
+    frame: &MapFrame,
+) -> Result<Inflation, String> {
+    let of_metres = |m: f64| {
+        let cells = frame.inflation_cells(m);
+        Inflation {
+            cells,
+            text: (cells > 0.0).then(|| radius_text(m, cells)),
+        }
+    };
+    match (radius, robot_radius) {
+        (Some(r), _) if !(r.is_finite() && r >= 0.0) => {
+            Err(format!("--radius {r}: must be a finite number >= 0"))
+        }
+        (Some(r), _) => Ok(Inflation {
+            cells: r as f64,
+            text: (r > 0.0).then(|| format!("of {} cells", metres(r as f64))),
+        }),
+        (None, Some(m)) if !(m.is_finite() && m >= 0.0) => Err(format!(
+            "--robot-radius {m}: must be a finite number of metres >= 0"
+        )),
+        (None, Some(_)) if !frame.declared => Err(
+            "a map in cells (no world frame); --robot-radius needs a ROS map YAML with a \
+             resolution and an origin (--radius takes cells)"
+                .into(),
+        ),
+        (None, Some(m)) => Ok(of_metres(m)),
+        (None, None) if frame.declared => Ok(of_metres(DEFAULT_ROBOT_RADIUS_M)),
+        (None, None) => Ok(Inflation {
+            cells: 0.0,
+            text: None,
+        }),
+    }
+}
+
 /// A length in metres with the cells it is, for messages: `0.25 m (5 cells)`.
 pub fn radius_text(radius_m: f64, cells: f64) -> String {
     format!("{} m ({} cells)", metres(radius_m), metres(cells))

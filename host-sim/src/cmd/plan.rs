@@ -34,7 +34,7 @@
 //! line), 2 for bad input (map, query file, options).
 
 use crate::exit::bad;
-use crate::mapsrc::{Frame, MapFrame, MapOptions, load_map};
+use crate::mapsrc::{Frame, MapOptions, load_map};
 use anyhow::Context;
 use clap::ValueEnum;
 use planner_core::PlanError;
@@ -83,8 +83,8 @@ pub struct PlanArgs {
     /// Robot radius in cells: the map is inflated so that paths keep this clearance.
     #[arg(long, conflicts_with = "robot_radius")]
     pub radius: Option<f32>,
-    /// Robot radius in metres (a ROS map): every cell whose centre lies within it of an
-    /// obstacle is blocked for planning.
+    /// Robot radius in metres (a ROS map; default 0.25 there, 0 plans for a point): every
+    /// cell whose centre lies within it of an obstacle is blocked for planning.
     #[arg(long)]
     pub robot_radius: Option<f64>,
     /// Write results here instead of standard output.
@@ -249,31 +249,6 @@ pub fn endpoint(text: &str, frame: Frame, what: &str) -> anyhow::Result<Endpoint
         Frame::Cells => Err(bad(format!(
             "--{what} {text}: cells are integers (--frame world takes metres)"
         ))),
-    }
-}
-
-/// The inflation radius in cells of `--radius` (cells) or `--robot-radius` (metres, which
-/// needs a map with a world frame), and how to name it in messages.
-pub fn radius_cells(
-    radius: Option<f32>,
-    robot_radius: Option<f64>,
-    frame: &MapFrame,
-    map: &std::path::Path,
-) -> anyhow::Result<(f64, String)> {
-    match (radius, robot_radius) {
-        (Some(r), _) if !(r.is_finite() && r >= 0.0) => {
-            Err(bad(format!("--radius {r}: must be a finite number >= 0")))
-        }
-        (Some(r), _) => Ok((r as f64, format!("of {r} cells"))),
-        (None, Some(m)) if !(m.is_finite() && m >= 0.0) => Err(bad(format!(
-            "--robot-radius {m}: must be a finite number of metres >= 0"
-        ))),
-        (None, Some(_)) if !frame.declared => Err(no_frame(map, "--robot-radius")),
-        (None, Some(m)) => {
-            let cells = frame.inflation_cells(m);
-            Ok((cells, jsonl::radius_text(m, cells)))
-        }
-        (None, None) => Ok((0.0, String::new())),
     }
 }
 
@@ -490,9 +465,10 @@ pub fn run(args: &PlanArgs) -> anyhow::Result<()> {
     if args.frame == Frame::World && !frame.declared {
         return Err(no_frame(&args.map, "--frame world"));
     }
-    let (radius, radius_text) = radius_cells(args.radius, args.robot_radius, &frame, &args.map)?;
-    let mut prepared =
-        PreparedMap::new(loaded.grid.clone(), radius as f32).context("invalid --radius")?;
+    let inflation = jsonl::inflation(args.radius, args.robot_radius, &frame)
+        .map_err(|e| bad(format!("{}: {e}", args.map.display())))?;
+    let mut prepared = PreparedMap::new(loaded.grid.clone(), inflation.cells as f32)
+        .context("invalid --radius")?;
     let (params, aco) = args.swarm.params(args.seed);
     prepared.warm_up(args.algo, &params, &aco);
     eprintln!(
@@ -526,7 +502,7 @@ pub fn run(args: &PlanArgs) -> anyhow::Result<()> {
         frame: frame.declared.then_some(&frame),
     };
     let unknown = loaded.unknown.as_ref().map(|u| u.view());
-    let radius_text = (radius > 0.0).then_some(radius_text.as_str());
+    let radius_text = inflation.text.as_deref();
     for line in lines {
         let value = match line {
             QueryLine::Query(query) => match query.resolve(&frame) {

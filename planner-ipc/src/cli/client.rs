@@ -102,8 +102,8 @@ struct PlanArgs {
     /// Inflation of the map by a robot radius, in cells.
     #[arg(long, conflicts_with = "robot_radius")]
     radius: Option<f32>,
-    /// Robot radius in metres (a ROS map): cells whose centre lies within it of an
-    /// obstacle are blocked for planning.
+    /// Robot radius in metres (a ROS map; default 0.25 there, 0 plans for a point): cells
+    /// whose centre lies within it of an obstacle are blocked for planning.
     #[arg(long)]
     robot_radius: Option<f64>,
     /// Unknown space of a ROS map: blocked or free.
@@ -236,31 +236,16 @@ fn run(cli: Cli) -> anyhow::Result<()> {
 fn plan(client: &mut PlannerClient, args: &PlanArgs) -> anyhow::Result<()> {
     let loaded = load(client, &args.map, args.unknown)?;
     let frame = loaded.frame;
-    let needs_frame = args.frame == Frame::World || args.robot_radius.is_some();
-    if needs_frame && !frame.declared {
+    if args.frame == Frame::World && !frame.declared {
         return Err(bad(format!(
-            "{}: a Moving AI map has no world frame (it is in cells); --frame world and \
-             --robot-radius need a ROS map YAML with a resolution and an origin",
+            "{}: a Moving AI map has no world frame (it is in cells); --frame world needs a \
+             ROS map YAML with a resolution and an origin",
             args.map.display()
         )));
     }
-    let radius_cells = match (args.radius, args.robot_radius) {
-        (Some(r), _) if !(r.is_finite() && r >= 0.0) => {
-            return Err(bad(format!("--radius {r}: must be a finite number >= 0")));
-        }
-        (Some(r), _) => r as f64,
-        (None, Some(m)) if !(m.is_finite() && m >= 0.0) => {
-            return Err(bad(format!(
-                "--robot-radius {m}: must be a finite number >= 0"
-            )));
-        }
-        (None, Some(m)) => frame.inflation_cells(m),
-        (None, None) => 0.0,
-    };
-    let radius_text = match args.robot_radius {
-        Some(m) => jsonl::radius_text(m, radius_cells),
-        None => format!("of {} cells", planner_mapfile::frame::metres(radius_cells)),
-    };
+    let inflation = jsonl::inflation(args.radius, args.robot_radius, &frame)
+        .map_err(|e| bad(format!("{}: {e}", args.map.display())))?;
+    let radius_cells = inflation.cells;
     let lines = match (&args.queries, &args.start, &args.goal) {
         (Some(file), _, _) => {
             let text = std::fs::read_to_string(file)
@@ -332,7 +317,7 @@ fn plan(client: &mut PlannerClient, args: &PlanArgs) -> anyhow::Result<()> {
                                 loaded.grid.view(),
                                 loaded.unknown.as_ref().map(|u| u.view()),
                                 cells,
-                                (radius_cells > 0.0).then_some(radius_text.as_str()),
+                                inflation.text.as_deref(),
                             );
                             // The server's time when it answered, else the round trip.
                             let time = client.last_server_time_us().map_or(round_trip, f64::from);
