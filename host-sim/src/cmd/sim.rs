@@ -2,16 +2,32 @@
 //!
 //! ```text
 //! host-sim demo [--out DIR] [--planner ipc|inproc]
-//! host-sim run [--map FILE.map|FILE.yaml | layout options] --algo NAME [--robots K] [--people K] [--seed S] [--start X,Y --goal X,Y] [--out DIR]
+//! host-sim run [--map FILE.map|FILE.yaml | layout options] --algo NAME [--robots K] [--people K] [--seed S]
+//!              [--start X,Y --goal X,Y [--frame cells|world]] [--robot-radius M] [--max-speed M/S]
+//!              [--max-accel M/S2] [--unknown blocked|free] [--out DIR]
+//! ```
+//!
+//! `run` on a ROS map works in its world frame: `--frame world` takes the start and goal in
+//! metres, the robot (default 0.25 m, 1.0 m/s, 0.5 m/s^2) is sized in metres, the map is
+//! inflated by its radius for the global planner, and the report and pictures are in
+//! metres. Exit status ([`crate::exit`]): 0 when the mission arrived without contact, 2 for
+//! bad input (map, start, goal, options; each endpoint error named as `plan` names it), 3
+//! when it did not arrive or collided.
+//!
+//! ```text
 //! host-sim scenarios [--case NAME] [--algo NAME] [--out DIR] [--json]
 //! host-sim soak [--missions N] [--seed S] [--algo NAME] [--out DIR]
 //! ```
 
 use super::bench::{fmt, print_table, progress, write_json};
-use crate::mapsrc::{self, MapOptions, warehouse};
+use crate::exit::{MissionFailed, bad};
+use crate::mapsrc::{self, Frame, MapFrame, MapOptions, warehouse};
 use crate::sim::mission::{self, MissionResult, MissionSpec, Outcome};
 use crate::sim::planner::{GlobalPlanner, InProcess, PlanRequest, PlannerChoice};
+use crate::sim::report::MapLook;
+use crate::sim::robot::Robot;
 use crate::sim::scenarios::{self, mission_params};
+use crate::sim::site::Site;
 use crate::sim::{kinematics::DiffDrive, report};
 use anyhow::{Context, bail};
 use planner_core::dwa::{DwaConfig, DwaState};
@@ -19,6 +35,7 @@ use planner_core::geometry::Cell;
 use planner_core::grid::{GridBuf, GridRef, words_for};
 use planner_core::maps::{MapKind, seed000};
 use planner_core::planner::PlannerKind;
+use planner_ipc::jsonl::Endpoint;
 use rand_core::{Rng, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
 use serde_json::json;
@@ -26,12 +43,6 @@ use std::path::{Path, PathBuf};
 
 fn parse_planner(s: &str) -> Result<PlannerKind, String> {
     s.parse().map_err(|_| format!("unknown planner {s:?}"))
-}
-
-fn parse_cell(text: &str) -> Result<Cell, String> {
-    let (x, y) = text.split_once(',').ok_or("expected X,Y")?;
-    let num = |s: &str| s.trim().parse::<u16>().map_err(|e| format!("{s:?}: {e}"));
-    Ok(Cell::new(num(x)?, num(y)?))
 }
 
 /// Arguments of `host-sim demo`.
@@ -68,12 +79,29 @@ pub struct RunArgs {
     /// Seed (planner, movers, random start and goal).
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
-    /// Start cell (default: random free cell).
-    #[arg(long, value_parser = parse_cell, requires = "goal")]
-    pub start: Option<Cell>,
-    /// Goal cell (default: random free cell).
-    #[arg(long, value_parser = parse_cell, requires = "start")]
-    pub goal: Option<Cell>,
+    /// Start `X,Y`: a cell, or metres with `--frame world` (default: a random free cell of
+    /// the inflated map's largest region).
+    #[arg(long, requires = "goal", allow_hyphen_values = true)]
+    pub start: Option<String>,
+    /// Goal `X,Y`: a cell, or metres with `--frame world` (default: a random free cell in
+    /// the start's region).
+    #[arg(long, requires = "start", allow_hyphen_values = true)]
+    pub goal: Option<String>,
+    /// What `--start` and `--goal` are in: cells, or metres in the map frame of a ROS map
+    /// (its YAML's origin and resolution, y up).
+    #[arg(long, value_enum, default_value_t = Frame::Cells)]
+    pub frame: Frame,
+    /// Robot radius (m; default 0.25 on a ROS map): sizes the simulated robot and inflates
+    /// the map for the global planner. On a map without a world frame the robot is 0.3
+    /// cell and the map is not inflated.
+    #[arg(long)]
+    pub robot_radius: Option<f32>,
+    /// Robot speed limit (m/s, or cells/s on a map without a world frame).
+    #[arg(long, default_value_t = Robot::AMR.max_speed)]
+    pub max_speed: f32,
+    /// Robot acceleration limit (m/s^2, or cells/s^2 on a map without a world frame).
+    #[arg(long, default_value_t = Robot::AMR.max_accel)]
+    pub max_accel: f32,
     /// Output directory.
     #[arg(long, default_value = "bench-out/run")]
     pub out: PathBuf,
@@ -83,7 +111,7 @@ pub struct RunArgs {
     /// Layout of the generated warehouse (without `--map`).
     #[command(flatten)]
     pub layout: warehouse::WarehouseParams,
-    /// Size limit of the loaded or generated map.
+    /// Size limit and unknown space of the loaded or generated map.
     #[command(flatten)]
     pub limits: MapOptions,
 }
@@ -148,11 +176,12 @@ fn write_outputs(
     spec: &MissionSpec,
     result: &MissionResult,
     stations: &[(Cell, &'static str)],
+    look: MapLook<'_>,
     out: &Path,
     extra: serde_json::Value,
 ) -> anyhow::Result<()> {
     std::fs::create_dir_all(out).with_context(|| format!("cannot create {}", out.display()))?;
-    report::save_pictures(spec, result, stations, out)?;
+    report::save_pictures(spec, result, stations, look, out)?;
     let mut value = serde_json::to_value(result)?;
     if let (Some(obj), serde_json::Value::Object(more)) = (value.as_object_mut(), extra) {
         obj.extend(more);
@@ -202,7 +231,7 @@ fn convergence_in_process(
     };
     let mut local = InProcess::new();
     local
-        .set_map(spec.grid.view())
+        .set_map(spec.plan_grid.as_ref().unwrap_or(&spec.grid).view())
         .map_err(anyhow::Error::msg)?;
     let p = local
         .plan(&PlanRequest {
@@ -231,6 +260,8 @@ pub fn demo(args: &DemoArgs) -> anyhow::Result<()> {
     let spec = MissionSpec {
         name: "demo: seed-000 warehouse 40x40".into(),
         grid,
+        plan_grid: None,
+        metres_per_cell: 1.0,
         start: pose(map.start, 0.0),
         goal: map.goal,
         algo: "tclhho".parse().map_err(anyhow::Error::msg)?,
@@ -254,6 +285,7 @@ pub fn demo(args: &DemoArgs) -> anyhow::Result<()> {
         &spec,
         &result,
         &[],
+        MapLook::default(),
         &args.out,
         json!({"algo": "tclhho", "planner": args.planner.name(), "seed": args.seed,
                "convergence": convergence}),
@@ -264,7 +296,9 @@ pub fn demo(args: &DemoArgs) -> anyhow::Result<()> {
         args.out.display()
     );
     if !result.success {
-        bail!("demo mission did not succeed: {:?}", result.outcome);
+        return Err(
+            MissionFailed(format!("demo mission did not succeed: {}", result.outcome)).into(),
+        );
     }
     Ok(())
 }
@@ -307,31 +341,56 @@ fn random_pair(
 
 /// `host-sim run`.
 pub fn run(args: &RunArgs) -> anyhow::Result<()> {
-    let (grid, name, stations) = match &args.map {
-        Some(path) => {
-            let m = mapsrc::load_map(path, &args.limits)?;
-            (m.grid, m.name, Vec::new())
-        }
-        None => {
-            let w = warehouse::generate(&args.layout, &args.limits)?;
-            let mut st: Vec<(Cell, &'static str)> =
-                w.picks.iter().map(|c| (*c, "pick station")).collect();
-            st.extend(w.chargers.iter().map(|c| (*c, "charging station")));
-            (w.grid, "generated warehouse".to_string(), st)
-        }
+    let (site, name, stations) = run_site(args)?;
+    let declared = site.frame.declared;
+    let mpc = site.frame.resolution as f32;
+    let robot = Robot {
+        radius: args
+            .robot_radius
+            .unwrap_or(if declared { Robot::AMR.radius } else { 0.3 }),
+        max_speed: args.max_speed,
+        max_accel: args.max_accel,
     };
+    robot.check().map_err(|e| bad(e.to_string()))?;
     let mut rng = Xoshiro256PlusPlus::seed_from_u64(args.seed);
-    let (start, goal) = match (args.start, args.goal) {
-        (Some(s), Some(g)) => (s, g),
+    let (start, goal) = match (&args.start, &args.goal) {
+        (Some(s), Some(g)) => {
+            let resolve = |text: &str, which: &str| -> anyhow::Result<Cell> {
+                let end = super::plan::endpoint(text, args.frame, &which.to_ascii_lowercase())?;
+                let cell = end
+                    .resolve(&site.frame, which)
+                    .map_err(|e| bad(crate::sim::site::BadEndpoint(e).to_string()))?;
+                let checked = site.check(which, cell).map_err(|e| bad(e.to_string()))?;
+                if let Endpoint::World(_) = end {
+                    println!("{which}: ({text}) m is cell ({}, {})", checked.x, checked.y);
+                }
+                Ok(checked)
+            };
+            (resolve(s, "Start")?, resolve(g, "Goal")?)
+        }
         _ => {
             let cells: Vec<Cell> = stations.iter().map(|s| s.0).collect();
-            random_pair(grid.view(), &mut rng, &cells, 8.0)?
+            let gap = 8.0_f32.max(2.0 / mpc);
+            site.random_pair(&mut rng, &cells, gap).ok_or_else(|| {
+                bad(format!(
+                    "{name}: no two free cells {gap} cells apart in one region of the inflated map"
+                ))
+            })?
         }
     };
     let theta = (rng.next_u32() % 8) as f32 * std::f32::consts::FRAC_PI_4;
+    let k = 1.0 / mpc;
+    let (dwa, drive) = if declared {
+        (robot.dwa(k), robot.drive(k))
+    } else {
+        // A cell counts as a metre: the defaults, with the robot's figures.
+        (robot.dwa(1.0), robot.drive(1.0))
+    };
     let spec = MissionSpec {
-        name,
-        grid,
+        name: name.clone(),
+        grid: site.grid.clone(),
+        plan_grid: site.inflated.clone(),
+        metres_per_cell: mpc,
         start: pose(start, theta),
         goal,
         algo: args.algo,
@@ -340,37 +399,137 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
         agents: Vec::new(),
         people: args.people,
         robots: args.robots,
-        dwa: DwaConfig::default(),
-        drive: DiffDrive::default(),
+        dwa,
+        drive,
         time_limit: None,
         record: true,
     };
+    let unit = if declared { "m" } else { "cells" };
+    let at = |c: Cell| -> String {
+        if declared {
+            let [x, y] = site.frame.to_world(c.x as f64, c.y as f64);
+            format!(
+                "({}, {}) m",
+                mapsrc::frame::metres(x),
+                mapsrc::frame::metres(y)
+            )
+        } else {
+            format!("({}, {})", c.x, c.y)
+        }
+    };
     println!(
-        "run: {} ({} x {}), {} from ({}, {}) to ({}, {}), {} people, {} robots",
+        "run: {} ({} x {} cells{}), {} from {} to {}, robot radius {} {unit}{}, {} people, {} robots",
         spec.name,
         spec.grid.width(),
         spec.grid.height(),
+        if declared {
+            format!(
+                ", {} m a cell",
+                mapsrc::frame::metres(site.frame.resolution)
+            )
+        } else {
+            String::new()
+        },
         args.algo.name(),
-        start.x,
-        start.y,
-        goal.x,
-        goal.y,
+        at(start),
+        at(goal),
+        robot.radius,
+        site.radius_text
+            .as_ref()
+            .map_or(String::new(), |r| format!(" (map inflated by {r})")),
         args.people,
         args.robots
     );
     let mut result = run_with_bar(&spec, args.planner, &args.out)?;
     let convergence = convergence_in_process(&spec, &mut result)?;
+    // Cell centres in metres, to the micrometre (no binary noise in the report).
+    let world = |c: Cell| {
+        declared.then(|| {
+            site.frame
+                .to_world(c.x as f64, c.y as f64)
+                .map(|v| (v * 1e6).round() / 1e6)
+        })
+    };
     write_outputs(
         &spec,
         &result,
         &stations,
+        MapLook {
+            unknown: site.unknown.as_ref().map(GridBuf::view),
+            world: declared.then_some(site.frame),
+        },
         &args.out,
         json!({"algo": args.algo.name(), "planner": args.planner.name(), "seed": args.seed,
-               "start": [start.x, start.y], "goal": [goal.x, goal.y], "convergence": convergence}),
+               "units": if declared { "m" } else { "cells (1 m each)" },
+               "metres_per_cell": site.frame.resolution, "robot": robot,
+               "start": [start.x, start.y], "goal": [goal.x, goal.y],
+               "start_m": world(start), "goal_m": world(goal), "convergence": convergence}),
     )?;
     println!("{}", report::summary(&result));
     println!("wrote pictures and report.json to {}", args.out.display());
+    if !result.success {
+        return Err(MissionFailed(format!(
+            "the mission did not succeed: {}, {} static and {} dynamic collisions",
+            result.outcome, result.collisions_static, result.collisions_dynamic
+        ))
+        .into());
+    }
     Ok(())
+}
+
+/// A generated warehouse's pick and charging stations, with their legend labels.
+type Stations = Vec<(Cell, &'static str)>;
+
+/// The map of `run` (a file or a generated warehouse), inflated for the robot, its name, and
+/// the generated warehouse's stations.
+fn run_site(args: &RunArgs) -> anyhow::Result<(Site, String, Stations)> {
+    let (grid, unknown, frame, name, stations) = match &args.map {
+        Some(path) => {
+            let m = mapsrc::load_map(path, &args.limits)?;
+            (m.grid, m.unknown, m.frame, m.name, Vec::new())
+        }
+        None => {
+            let w = warehouse::generate(&args.layout, &args.limits)?;
+            let mut st: Vec<(Cell, &'static str)> =
+                w.picks.iter().map(|c| (*c, "pick station")).collect();
+            st.extend(w.chargers.iter().map(|c| (*c, "charging station")));
+            let frame = MapFrame::assumed(w.grid.width(), w.grid.height());
+            (w.grid, None, frame, "generated warehouse".to_string(), st)
+        }
+    };
+    let what = || {
+        args.map
+            .as_ref()
+            .map_or("the generated warehouse".to_string(), |p| {
+                p.display().to_string()
+            })
+    };
+    if args.frame == Frame::World && !frame.declared {
+        return Err(bad(format!(
+            "{}: no world frame (cells only); --frame world needs a ROS map YAML with a \
+             resolution and an origin",
+            what()
+        )));
+    }
+    let inflation = planner_ipc::jsonl::inflation(None, args.robot_radius.map(f64::from), &frame)
+        .map_err(|e| bad(format!("{}: {e}", what())))?;
+    let inflated = if frame.declared {
+        Some(
+            grid.inflated(inflation.cells as f32)
+                .map_err(anyhow::Error::msg)?,
+        )
+    } else {
+        None
+    };
+    let radius_text = inflation.text;
+    let site = Site {
+        grid,
+        inflated,
+        unknown,
+        frame,
+        radius_text,
+    };
+    Ok((site, name, stations))
 }
 
 /// `host-sim scenarios`: exit status 1 if any case fails.
@@ -396,7 +555,7 @@ pub fn scenarios(args: &ScenariosArgs) -> anyhow::Result<()> {
         let pass = sc.passes(&r.outcome, r.collisions_static + r.collisions_dynamic);
         failed += usize::from(!pass);
         if !args.no_pictures && r.outcome != Outcome::Unreachable {
-            report::save_pictures(&spec, &r, &[], &args.out.join(sc.name))?;
+            report::save_pictures(&spec, &r, &[], MapLook::default(), &args.out.join(sc.name))?;
         }
         if args.json {
             println!(
@@ -407,7 +566,7 @@ pub fn scenarios(args: &ScenariosArgs) -> anyhow::Result<()> {
         rows.push(vec![
             sc.name.to_string(),
             if pass { "PASS" } else { "FAIL" }.to_string(),
-            format!("{:?}", r.outcome),
+            r.outcome.to_string(),
             (r.collisions_static + r.collisions_dynamic).to_string(),
             r.time_to_goal.map_or("—".into(), |t| format!("{t:.1}")),
             fmt(r.driven_length as f64, 1),
@@ -465,6 +624,8 @@ pub fn soak(args: &SoakArgs) -> anyhow::Result<()> {
         let spec = MissionSpec {
             name: format!("soak-{seed}"),
             grid: w.grid,
+            plan_grid: None,
+            metres_per_cell: 1.0,
             start: pose(start, theta),
             goal,
             algo: args.algo,
@@ -487,7 +648,7 @@ pub fn soak(args: &SoakArgs) -> anyhow::Result<()> {
             };
             let rr = mission::run(&again, &mut *planner);
             let dir = args.out.join("failures").join(&spec.name);
-            report::save_pictures(&again, &rr, &[], &dir)?;
+            report::save_pictures(&again, &rr, &[], MapLook::default(), &dir)?;
             bar.println(format!(
                 "mission {seed} failed: {}  (layout {layout:?}, start {start:?}, goal {goal:?}, people {}, robots {})",
                 report::summary(&r),

@@ -6,6 +6,8 @@ use super::{
     Disc, Figure, GOAL_COLOR, Layer, Marker, Rgb, START_COLOR, Shape, Style, drawing_error,
     ensure_font, font, nice_step, rgb, text_size, write_png, write_svg,
 };
+use crate::mapsrc::MapFrame;
+use crate::mapsrc::frame::metres;
 use anyhow::bail;
 use planner_core::geometry::Point;
 use planner_core::grid::GridRef;
@@ -33,6 +35,11 @@ pub struct MapPicture<'a> {
     pub start: Option<Point>,
     /// Goal, marked red and labelled.
     pub goal: Option<Point>,
+    /// Unknown space (a ROS map's), drawn in its own colour rather than as blocked.
+    pub unknown: Option<GridRef<'a>>,
+    /// The map's world frame: scale bar, axes and the legend's start and goal in metres
+    /// (cells without it).
+    pub world: Option<MapFrame>,
     /// Pixels per cell; `None` picks one so that the map is about 600 to 1300 px wide, or,
     /// for a map of more than [`MAX_MAP_PX`] cells a side, one pixel per block of cells so
     /// that it is at most [`MAX_MAP_PX`] pixels a side (shaded by the share of blocked cells
@@ -55,6 +62,8 @@ impl<'a> MapPicture<'a> {
             discs: Vec::new(),
             start: None,
             goal: None,
+            unknown: None,
+            world: None,
             cell_px: None,
         }
     }
@@ -86,6 +95,8 @@ impl<'a> MapPicture<'a> {
                 discs: &self.discs,
                 start: self.start,
                 goal: self.goal,
+                unknown: self.unknown,
+                world: self.world,
             },
             self.cell_px,
         )
@@ -199,6 +210,8 @@ impl<'a> FieldPicture<'a> {
                 discs: &self.discs,
                 start: self.start,
                 goal: self.goal,
+                unknown: None,
+                world: None,
             },
             self.cell_px,
         )
@@ -219,6 +232,8 @@ const SWATCH_W: i32 = 36;
 const COLOR_BAR_H: i32 = 150;
 
 const BLOCKED: Rgb = [45, 45, 50];
+/// Unknown space: a cool grey, apart from occupied cells and free floor.
+const UNKNOWN_SPACE: Rgb = [160, 175, 195];
 const GRID_LINE: Rgb = [225, 225, 225];
 const FRAME: Rgb = [0, 0, 0];
 const UNKNOWN: Rgb = [190, 190, 190];
@@ -245,7 +260,34 @@ struct SceneParts<'s> {
     discs: &'s [Disc<'s>],
     start: Option<Point>,
     goal: Option<Point>,
+    unknown: Option<GridRef<'s>>,
+    world: Option<MapFrame>,
 }
+
+impl SceneParts<'_> {
+    /// A point for the legend: metres in the world frame, or cells.
+    fn point_text(&self, p: Point) -> String {
+        match self.world {
+            Some(f) => {
+                let [x, y] = f.to_world(p.x as f64, p.y as f64);
+                format!("({}, {}) m", metres_short(x), metres_short(y))
+            }
+            None => fmt_point(p),
+        }
+    }
+}
+
+/// Metres for legends and ticks: at most three decimals.
+fn metres_short(v: f64) -> String {
+    metres((v * 1000.0).round() / 1000.0)
+}
+
+/// Axis ticks (pixel offset, label) along x and y, and the two axis captions.
+type Ticks = (
+    Vec<(i32, String)>,
+    Vec<(i32, String)>,
+    (&'static str, &'static str),
+);
 
 enum Swatch {
     Line(Style),
@@ -275,8 +317,9 @@ struct Scene<'s> {
     legend_y: i32,
     legend_w: i32,
     legend_h: i32,
-    /// Scale bar length in cells.
-    scale_cells: i32,
+    /// Scale bar length in cells, and its label.
+    scale_cells: f64,
+    scale_text: String,
     /// Canvas.
     width_px: i32,
     height_px: i32,
@@ -351,7 +394,16 @@ impl<'s> Scene<'s> {
         let scale = cell as f64 / block as f64;
 
         let entries = legend_entries(&parts, block);
-        let scale_cells = nice_below(160.0 / scale) as i32;
+        let (scale_cells, scale_text) = match parts.world {
+            Some(f) => {
+                let m = nice_metres(160.0 / scale * f.resolution);
+                (m / f.resolution, format!("{} m", metres_short(m)))
+            }
+            None => {
+                let cells = nice_below(160.0 / scale);
+                (cells, scale_label(cells as i32))
+            }
+        };
 
         // Legend panel size.
         let mut legend_w = entries
@@ -359,9 +411,8 @@ impl<'s> Scene<'s> {
             .map(|e| SWATCH_W + 8 + text_size(&e.text, TEXT_PT).0)
             .max()
             .unwrap_or(0);
-        let scale_text = scale_label(scale_cells);
         legend_w = legend_w
-            .max((scale_cells as f64 * scale).round() as i32)
+            .max((scale_cells * scale).round() as i32)
             .max(text_size(&scale_text, TEXT_PT).0);
         // Entries, then the scale bar with its label.
         let mut legend_h = entries.len() as i32 * ROW_H + 8 + 32;
@@ -400,6 +451,7 @@ impl<'s> Scene<'s> {
             legend_w,
             legend_h,
             scale_cells,
+            scale_text,
             width_px,
             height_px,
         })
@@ -442,6 +494,19 @@ impl<'s> Scene<'s> {
     }
 }
 
+/// The largest 1, 2, 5 x 10^k metres not above `max` (any power of ten).
+fn nice_metres(max: f64) -> f64 {
+    if !(max.is_finite() && max > 0.0) {
+        return 1.0;
+    }
+    let p = 10f64.powf(max.log10().floor());
+    [5.0, 2.0, 1.0]
+        .into_iter()
+        .map(|m| m * p)
+        .find(|&v| v <= max)
+        .unwrap_or(p)
+}
+
 fn scale_label(cells: i32) -> String {
     if cells == 1 {
         "1 cell".into()
@@ -459,7 +524,11 @@ fn legend_entries(parts: &SceneParts<'_>, block: usize) -> Vec<Entry> {
         }),
         Background::Occupancy(_) => entries.push(Entry {
             swatch: Swatch::Fill(BLOCKED),
-            text: "blocked cell".into(),
+            text: if parts.unknown.is_some() {
+                "occupied cell".into()
+            } else {
+                "blocked cell".into()
+            },
         }),
         Background::Field {
             blocked: Some(_), ..
@@ -469,16 +538,22 @@ fn legend_entries(parts: &SceneParts<'_>, block: usize) -> Vec<Entry> {
         }),
         Background::Field { .. } => {}
     }
+    if parts.unknown.is_some_and(|u| u.blocked_count() > 0) {
+        entries.push(Entry {
+            swatch: Swatch::Fill(UNKNOWN_SPACE),
+            text: "unknown space".into(),
+        });
+    }
     if let Some(p) = parts.start {
         entries.push(Entry {
             swatch: Swatch::Symbol(Shape::Circle, START_COLOR),
-            text: format!("start {}", fmt_point(p)),
+            text: format!("start {}", parts.point_text(p)),
         });
     }
     if let Some(p) = parts.goal {
         entries.push(Entry {
             swatch: Swatch::Symbol(Shape::Square, GOAL_COLOR),
-            text: format!("goal {}", fmt_point(p)),
+            text: format!("goal {}", parts.point_text(p)),
         });
     }
     for layer in parts.layers.iter().filter(|l| !l.label.is_empty()) {
@@ -727,12 +802,18 @@ impl Figure for Scene<'_> {
 
     fn raster(&self) -> Option<Raster> {
         match self.parts.background {
-            Background::Occupancy(grid) if self.occupancy_as_pixels() => Some(Raster::occupancy(
-                grid,
-                self.block,
-                (self.map_x, self.map_y),
-                BLOCKED,
-            )),
+            Background::Occupancy(grid) if self.occupancy_as_pixels() => {
+                Some(match self.parts.unknown {
+                    Some(unknown) => Raster::occupancy_with_unknown(
+                        grid,
+                        unknown,
+                        self.block,
+                        (self.map_x, self.map_y),
+                        (BLOCKED, UNKNOWN_SPACE),
+                    ),
+                    None => Raster::occupancy(grid, self.block, (self.map_x, self.map_y), BLOCKED),
+                })
+            }
             _ => None,
         }
     }
@@ -786,7 +867,15 @@ impl Scene<'_> {
                 if c >= 8 {
                     self.draw_grid_lines(root)?;
                 }
-                runs(&|x, y| grid.is_blocked(x as isize, y as isize).then_some(BLOCKED))?;
+                let unknown = self.parts.unknown;
+                runs(&|x, y| {
+                    let (x, y) = (x as isize, y as isize);
+                    if unknown.is_some_and(|u| u.is_blocked(x, y)) {
+                        Some(UNKNOWN_SPACE)
+                    } else {
+                        grid.is_blocked(x, y).then_some(BLOCKED)
+                    }
+                })?;
             }
             Background::Field {
                 values,
@@ -1011,30 +1100,26 @@ impl Scene<'_> {
     }
 
     fn draw_axes<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> DResult {
-        let (w, h, c) = (
-            self.parts.width as i32,
-            self.parts.height as i32,
-            self.scale(),
-        );
-        // Centre of cell `k` along an axis, in pixels from the map's edge.
-        let centre = |k: i32| ((k as f64 + 0.5) * c).floor() as i32;
         let bottom = self.map_y + self.map_h();
         let axis = Style::solid(FRAME, 1.0);
-        let step_x = nice_step(48.0 / c) as i32;
-        for k in (0..w).step_by(step_x.max(1) as usize) {
-            let x = self.map_x + centre(k);
+        // Ticks: (pixel offset from the map's left or top edge, label).
+        let (xs, ys, captions) = match self.parts.world {
+            Some(f) => self.world_ticks(&f),
+            None => self.cell_ticks(),
+        };
+        for (x, label) in xs {
+            let x = self.map_x + x;
             line(root, vec![(x, bottom), (x, bottom + TICK_LEN)], axis)?;
             text(
                 root,
-                &k.to_string(),
+                &label,
                 (x, bottom + TICK_LEN + 3),
                 TICK_PT,
                 Pos::new(HPos::Center, VPos::Top),
             )?;
         }
-        let step_y = nice_step(30.0 / c) as i32;
-        for k in (0..h).step_by(step_y.max(1) as usize) {
-            let y = self.map_y + centre(k);
+        for (y, label) in ys {
+            let y = self.map_y + y;
             line(
                 root,
                 vec![(self.map_x - TICK_LEN, y), (self.map_x, y)],
@@ -1042,7 +1127,7 @@ impl Scene<'_> {
             )?;
             text(
                 root,
-                &k.to_string(),
+                &label,
                 (self.map_x - TICK_LEN - 4, y),
                 TICK_PT,
                 Pos::new(HPos::Right, VPos::Center),
@@ -1051,7 +1136,7 @@ impl Scene<'_> {
         let caption_y = bottom + TICK_LEN + 4 + TICK_PT as i32 + 10;
         text(
             root,
-            "x (column, cells)",
+            captions.0,
             (self.map_x + self.map_w() / 2, caption_y),
             TEXT_PT,
             Pos::new(HPos::Center, VPos::Top),
@@ -1061,11 +1146,57 @@ impl Scene<'_> {
             .color(&BLACK)
             .pos(Pos::new(HPos::Center, VPos::Top));
         root.draw(&Text::new(
-            "y (row, cells)",
+            captions.1,
             (MARGIN, self.map_y + self.map_h() / 2),
             style,
         ))
         .map_err(drawing_error)
+    }
+
+    /// Ticks at cell centres (column and row numbers).
+    fn cell_ticks(&self) -> Ticks {
+        let (w, h, c) = (
+            self.parts.width as i32,
+            self.parts.height as i32,
+            self.scale(),
+        );
+        // Centre of cell `k` along an axis, in pixels from the map's edge.
+        let centre = |k: i32| ((k as f64 + 0.5) * c).floor() as i32;
+        let step_x = (nice_step(48.0 / c) as i32).max(1) as usize;
+        let step_y = (nice_step(30.0 / c) as i32).max(1) as usize;
+        (
+            (0..w)
+                .step_by(step_x)
+                .map(|k| (centre(k), k.to_string()))
+                .collect(),
+            (0..h)
+                .step_by(step_y)
+                .map(|k| (centre(k), k.to_string()))
+                .collect(),
+            ("x (column, cells)", "y (row, cells)"),
+        )
+    }
+
+    /// Ticks at round metres of the map frame (y up).
+    fn world_ticks(&self, f: &MapFrame) -> Ticks {
+        let px_per_m = self.scale() / f.resolution;
+        let [[x0, y0], [x1, y1]] = f.extent();
+        let ticks = |lo: f64, hi: f64, min_px: f64, to_px: &dyn Fn(f64) -> f64| {
+            let step = nice_step(min_px / px_per_m);
+            let mut out = Vec::new();
+            let mut k = (lo / step).ceil();
+            while k * step <= hi + 1e-9 && out.len() < 1000 {
+                let v = k * step;
+                out.push((to_px(v).round() as i32, metres_short(v)));
+                k += 1.0;
+            }
+            out
+        };
+        (
+            ticks(x0, x1, 60.0, &|v| (v - x0) * px_per_m),
+            ticks(y0, y1, 30.0, &|v| (y1 - v) * px_per_m),
+            ("x (m, map frame)", "y (m, map frame)"),
+        )
     }
 
     fn draw_legend<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> DResult {
@@ -1111,14 +1242,14 @@ impl Scene<'_> {
         }
         // Scale bar.
         y += 8 - ROW_H / 2 + 6;
-        let len = (self.scale_cells as f64 * self.scale()).round() as i32;
+        let len = (self.scale_cells * self.scale()).round() as i32;
         let bar = Style::solid(FRAME, 2.0);
         line(root, vec![(x, y), (x + len, y)], bar)?;
         line(root, vec![(x, y - 5), (x, y + 5)], bar)?;
         line(root, vec![(x + len, y - 5), (x + len, y + 5)], bar)?;
         text(
             root,
-            &scale_label(self.scale_cells),
+            &self.scale_text,
             (x, y + 9),
             TEXT_PT,
             Pos::new(HPos::Left, VPos::Top),

@@ -57,6 +57,53 @@ impl Raster {
         }
     }
 
+    /// [`occupancy`](Self::occupancy) with unknown space in its own colour: a block with
+    /// occupied cells (blocked, not unknown) is shaded by their share in `blocked`, one with
+    /// only unknown (and free) cells by the unknown share in `unknown_rgb`.
+    pub fn occupancy_with_unknown(
+        grid: GridRef<'_>,
+        unknown: GridRef<'_>,
+        block: usize,
+        at: (i32, i32),
+        (blocked, unknown_rgb): (Rgb, Rgb),
+    ) -> Raster {
+        let block = block.max(1);
+        let (w, h) = (grid.width(), grid.height());
+        let (bw, bh) = (w.div_ceil(block), h.div_ceil(block));
+        let mut rgb = vec![255u8; bw * bh * 3];
+        for by in 0..bh {
+            let (y0, y1) = (by * block, ((by + 1) * block).min(h) - 1);
+            for bx in 0..bw {
+                let (x0, x1) = (bx * block, ((bx + 1) * block).min(w) - 1);
+                let (mut occupied, mut unknowns) = (0u32, 0u32);
+                for y in y0..=y1 {
+                    for x in x0..=x1 {
+                        let (x, y) = (x as isize, y as isize);
+                        if unknown.is_blocked(x, y) {
+                            unknowns += 1;
+                        } else if grid.is_blocked(x, y) {
+                            occupied += 1;
+                        }
+                    }
+                }
+                let cells = ((y1 - y0 + 1) * (x1 - x0 + 1)) as u32;
+                let i = (by * bw + bx) * 3;
+                if occupied > 0 {
+                    rgb[i..i + 3].copy_from_slice(&shade(blocked, occupied, cells));
+                } else if unknowns > 0 {
+                    rgb[i..i + 3].copy_from_slice(&shade(unknown_rgb, unknowns, cells));
+                }
+            }
+        }
+        Raster {
+            x: at.0,
+            y: at.1,
+            width: bw as u32,
+            height: bh as u32,
+            rgb,
+        }
+    }
+
     /// Copies the pixels into an RGB canvas buffer of `canvas` (width, height), clipped.
     pub fn paint(&self, buf: &mut [u8], canvas: (u32, u32)) {
         let (cw, ch) = (canvas.0 as i64, canvas.1 as i64);

@@ -15,8 +15,14 @@ use planner_core::planner::{PlanParams, PlannerKind};
 pub struct MissionSpec {
     /// Name for tables and titles.
     pub name: String,
-    /// The static map.
+    /// The static map: what the robot collides with.
     pub grid: GridBuf,
+    /// What the global planner plans on, when not `grid`: the map inflated by the robot's
+    /// radius (same size).
+    pub plan_grid: Option<GridBuf>,
+    /// Metres per cell: the report's lengths are metres (1 on maps without a world frame,
+    /// where a cell counts as a metre); the movers' sizes and speeds scale with it.
+    pub metres_per_cell: f32,
     /// Start pose (`v = w = 0` normally).
     pub start: DwaState,
     /// Goal cell.
@@ -56,6 +62,17 @@ pub enum Outcome {
     PlanFailed(String),
 }
 
+impl std::fmt::Display for Outcome {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Outcome::Arrived => f.write_str("Arrived"),
+            Outcome::Unreachable => f.write_str("Unreachable"),
+            Outcome::Timeout => f.write_str("Timeout"),
+            Outcome::PlanFailed(why) => write!(f, "PlanFailed ({why})"),
+        }
+    }
+}
+
 /// One global plan of a mission.
 #[derive(Clone, Debug, serde::Serialize)]
 pub struct PlanRecord {
@@ -63,13 +80,13 @@ pub struct PlanRecord {
     pub reason: &'static str,
     /// Simulated time of the request (s).
     pub at: f32,
-    /// Length (cells).
+    /// Length (m).
     pub length: f32,
     /// Evaluations (or expansions).
     pub evaluations: u64,
     /// Wall-clock planning time (ms).
     pub time_ms: f64,
-    /// The waypoints.
+    /// The waypoints (cells).
     #[serde(skip)]
     pub points: Vec<Point>,
     /// Best cost per iteration.
@@ -94,19 +111,19 @@ pub struct MissionResult {
     pub time_to_goal: Option<f32>,
     /// Simulated time (s).
     pub sim_time: f32,
-    /// Driven length (cells).
+    /// Driven length (m).
     pub driven_length: f32,
-    /// Length of the first global path (cells).
+    /// Length of the first global path (m).
     pub planned_length: f32,
     /// Driven / planned.
     pub length_ratio: f32,
-    /// RMS distance to the current global path (cells).
+    /// RMS distance to the current global path (m).
     pub rms_cross_track: f32,
-    /// Largest distance to the current global path (cells).
+    /// Largest distance to the current global path (m).
     pub max_cross_track: f32,
-    /// Smallest clearance between the footprint and a static obstacle (cells).
+    /// Smallest clearance between the footprint and a static obstacle (m).
     pub min_clearance_static: f32,
-    /// Smallest clearance between the footprint and a dynamic obstacle (cells).
+    /// Smallest clearance between the footprint and a dynamic obstacle (m).
     pub min_clearance_dynamic: Option<f32>,
     /// Replans after the first plan.
     pub replans: u32,
@@ -116,7 +133,7 @@ pub struct MissionResult {
     pub oscillation_events: u32,
     /// The plans.
     pub plans: Vec<PlanRecord>,
-    /// Driven trajectory.
+    /// Driven trajectory (cells).
     #[serde(skip)]
     pub trajectory: Vec<Point>,
     /// Final state of the obstacles (with trails when recorded).
@@ -124,11 +141,11 @@ pub struct MissionResult {
     pub agents: Vec<Agent>,
 }
 
-fn record(reason: &'static str, at: f32, p: &PlannedPath, keep: bool) -> PlanRecord {
+fn record(reason: &'static str, at: f32, p: &PlannedPath, keep: bool, mpc: f32) -> PlanRecord {
     PlanRecord {
         reason,
         at,
-        length: p.length,
+        length: p.length * mpc,
         evaluations: p.evaluations,
         time_ms: p.time.as_secs_f64() * 1e3,
         points: if keep || reason == "initial" {
@@ -151,8 +168,15 @@ fn square_distance(p: Point, c: (isize, isize)) -> f32 {
     (gx * gx + gy * gy).sqrt()
 }
 
-/// Whether a standing obstacle sits on the path within `ahead` cells of the robot.
-fn path_blocked(path: &[Point], robot: Point, agents: &[Agent], radius: f32, ahead: f32) -> bool {
+/// Whether a standing obstacle sits on the path within `ahead` cells of the robot, closer
+/// to it than the two radii and `slack`.
+fn path_blocked(
+    path: &[Point],
+    robot: Point,
+    agents: &[Agent],
+    (radius, slack): (f32, f32),
+    ahead: f32,
+) -> bool {
     // Walk the path from the segment nearest the robot.
     let mut best = (f32::INFINITY, 0usize);
     for (i, s) in path.windows(2).enumerate() {
@@ -175,7 +199,7 @@ fn path_blocked(path: &[Point], robot: Point, agents: &[Agent], radius: f32, ahe
     agents.iter().any(|a| {
         !a.moving()
             && a.pos.distance(robot) > 1e-3
-            && distance_to_polyline(a.pos, &pieces) < a.radius + radius + 0.05
+            && distance_to_polyline(a.pos, &pieces) < a.radius + radius + slack
     })
 }
 
@@ -191,6 +215,14 @@ pub fn run_with_progress(
     tick: &mut dyn FnMut(f32, f32),
 ) -> MissionResult {
     let grid = spec.grid.view();
+    let plan_grid = spec.plan_grid.as_ref().map_or(grid, GridBuf::view);
+    // Cells per metre, for the distances below that are metres on 1 m cells.
+    let (mpc, k) = (spec.metres_per_cell, 1.0 / spec.metres_per_cell);
+    let fit = FitParams {
+        spacing: 0.25 * k,
+        target: 1.0 * k,
+        ..FitParams::default()
+    };
     let goal_pt = spec.goal.center();
     let mut result = MissionResult {
         name: spec.name.clone(),
@@ -223,11 +255,11 @@ pub fn run_with_progress(
     };
     let start_cell = spec.start.position().cell(grid).unwrap_or_default();
     let first = planner
-        .set_map(grid)
+        .set_map(plan_grid)
         .and_then(|()| planner.plan(&request(start_cell, spec.seed)));
     let mut path = match first {
         Ok(mut p) => {
-            p.points = pathfit::fit(grid, &p.points, &FitParams::default());
+            p.points = pathfit::fit(plan_grid, &p.points, &fit);
             p
         }
         Err(PlanFailure::Unreachable) => {
@@ -242,12 +274,12 @@ pub fn run_with_progress(
     result.planned_length = path.length;
     result
         .plans
-        .push(record("initial", 0.0, &path, spec.record));
+        .push(record("initial", 0.0, &path, spec.record, mpc));
     let Ok(mut dwa) = Dwa::new(spec.dwa) else {
         result.outcome = Outcome::PlanFailed("invalid DWA configuration".into());
         return result;
     };
-    let mut world = World::new(spec.seed ^ 0x5151_0000);
+    let mut world = World::new(spec.seed ^ 0x5151_0000, k);
     world.agents = spec.agents.clone();
     let keep_clear = [spec.start.position(), goal_pt];
     world.add_random(grid, Kind::Person, spec.people, &keep_clear);
@@ -292,7 +324,13 @@ pub fn run_with_progress(
         if cmd.event == Event::Stuck {
             reason = Some("stuck");
         }
-        if path_blocked(&path.points, state.position(), &world.agents, radius, 4.0) {
+        if path_blocked(
+            &path.points,
+            state.position(),
+            &world.agents,
+            (radius, 0.05 * k),
+            4.0 * k,
+        ) {
             blocked_for += dt;
         } else {
             blocked_for = 0.0;
@@ -303,20 +341,21 @@ pub fn run_with_progress(
         if let Some(reason) = reason.filter(|_| t - last_replan > 2.0) {
             last_replan = t;
             // Mark the cells under nearby standing obstacles (and anything touching the
-            // robot's way within 3 cells when stuck) as blocked on a copy of the map.
+            // robot's way when stuck) as blocked on a copy of the planning map.
             let robot_cell = state.position().cell(grid);
-            let mut tmp = GridBuf::from_view(grid);
+            let mut tmp = GridBuf::from_view(plan_grid);
             for a in &world.agents {
-                let near = a.pos.distance(state.position()) < 8.0;
+                let near = a.pos.distance(state.position()) < 8.0 * k;
                 if !near || (a.moving() && reason == "blocked") {
                     continue;
                 }
                 let reach = a.radius + radius;
+                let span = reach.ceil() as isize + 1;
                 let (cx, cy) = (a.pos.x.round() as isize, a.pos.y.round() as isize);
-                for y in cy - 2..=cy + 2 {
-                    for x in cx - 2..=cx + 2 {
+                for y in cy - span..=cy + span {
+                    for x in cx - span..=cx + span {
                         let c = (x, y);
-                        if !grid.contains(x, y) || square_distance(a.pos, c) >= reach - 0.2 {
+                        if !grid.contains(x, y) || square_distance(a.pos, c) >= reach - 0.2 * k {
                             continue;
                         }
                         let cell = Cell::new(x as u16, y as u16);
@@ -339,17 +378,19 @@ pub fn run_with_progress(
                     if let Some(first) = p.points.first_mut() {
                         *first = state.position();
                     }
-                    p.points = pathfit::fit(tmp.view(), &p.points, &FitParams::default());
+                    p.points = pathfit::fit(tmp.view(), &p.points, &fit);
                     path = p;
                     result.replans += 1;
-                    result.plans.push(record(reason, t, &path, spec.record));
+                    result
+                        .plans
+                        .push(record(reason, t, &path, spec.record, mpc));
                     dwa.reset_path();
                     blocked_for = 0.0;
                 }
             }
         }
         if on_temp_map && t - last_replan > 5.0 {
-            let _ = planner.set_map(grid);
+            let _ = planner.set_map(plan_grid);
             on_temp_map = false;
         }
         let before = state.position();
@@ -363,7 +404,7 @@ pub fn run_with_progress(
         sq_sum += (cross as f64).powi(2);
         samples += 1;
         result.max_cross_track = result.max_cross_track.max(cross);
-        let cs = point_clearance(grid, pos, 5.0) - radius;
+        let cs = point_clearance(grid, pos, radius + 5.0 * k) - radius;
         result.min_clearance_static = result.min_clearance_static.min(cs);
         if cs < -1e-4 {
             if !in_static {
@@ -409,6 +450,17 @@ pub fn run_with_progress(
         0.0
     };
     result.length_ratio = result.driven_length / result.planned_length;
+    // The report in metres (the ratio is the same in either unit).
+    for v in [
+        &mut result.driven_length,
+        &mut result.planned_length,
+        &mut result.rms_cross_track,
+        &mut result.max_cross_track,
+        &mut result.min_clearance_static,
+    ] {
+        *v *= mpc;
+    }
+    result.min_clearance_dynamic = result.min_clearance_dynamic.map(|c| c * mpc);
     result.success = result.outcome == Outcome::Arrived
         && result.collisions_static == 0
         && result.collisions_dynamic == 0;

@@ -4,9 +4,11 @@
 //!
 //! - [`ipc`]: the global planner over iceoryx2 (client of `planner-server`);
 //! - [`kinematics`]: differential drive with limits;
+//! - [`robot`]: the robot in metres, and in the cells of a map;
 //! - [`world`]: people and robots moving along aisles (scripted and random);
 //! - [`mission`]: one mission and its measurements;
 //! - [`pathfit`]: global paths pushed off the walls before DWA follows them;
+//! - [`site`]: the map a mission runs on, inflated for its robot, and its start and goal;
 //! - [`scenarios`]: the hard cases (`host-sim scenarios`, `tests/scenarios.rs`);
 //! - [`report`]: pictures and JSON.
 
@@ -16,5 +18,7 @@ pub mod mission;
 pub mod pathfit;
 pub mod planner;
 pub mod report;
+pub mod robot;
 pub mod scenarios;
+pub mod site;
 pub mod world;

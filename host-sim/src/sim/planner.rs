@@ -47,11 +47,7 @@ pub struct PlannedPath {
 pub enum PlanFailure {
     /// Start and goal lie in different components: the goal is walled off.
     Unreachable,
-    /// The start cell is blocked or off the map.
-    StartBlocked,
-    /// The goal cell is blocked or off the map.
-    GoalBlocked,
-    /// Any other planner error (budget, parameters, capacity).
+    /// Any other planner error (an endpoint, budget, parameters, capacity).
     Planner(PlanError),
     /// The transport to a planner service failed.
     Transport(String),
@@ -61,9 +57,7 @@ impl std::fmt::Display for PlanFailure {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
             PlanFailure::Unreachable => f.write_str("Unreachable"),
-            PlanFailure::StartBlocked => f.write_str("StartBlocked"),
-            PlanFailure::GoalBlocked => f.write_str("GoalBlocked"),
-            PlanFailure::Planner(e) => write!(f, "{e}"),
+            PlanFailure::Planner(e) => write!(f, "{}: {e}", e.name()),
             PlanFailure::Transport(e) => write!(f, "transport: {e}"),
         }
     }
@@ -75,8 +69,6 @@ impl From<PlanError> for PlanFailure {
     fn from(e: PlanError) -> Self {
         match e {
             PlanError::NoValidPath => PlanFailure::Unreachable,
-            PlanError::StartOccupied | PlanError::StartOutsideMap => PlanFailure::StartBlocked,
-            PlanError::GoalOccupied | PlanError::GoalOutsideMap => PlanFailure::GoalBlocked,
             other => PlanFailure::Planner(other),
         }
     }

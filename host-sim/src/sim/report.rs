@@ -2,8 +2,10 @@
 
 use super::mission::{MissionResult, MissionSpec};
 use super::world::Kind;
+use crate::mapsrc::MapFrame;
 use crate::render::{Disc, Layer, MapPicture, Marker, Series, Shape, Style, convergence_plot};
 use planner_core::geometry::{Cell, Point};
+use planner_core::grid::GridRef;
 use std::path::Path;
 
 /// Colour of people.
@@ -11,29 +13,42 @@ const PERSON: [u8; 3] = [204, 121, 167];
 /// Colour of other robots.
 const ROBOT: [u8; 3] = [230, 159, 0];
 
+/// What the pictures show of the map besides its cells: unknown space and the world frame.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct MapLook<'a> {
+    /// Unknown space (drawn in its own colour).
+    pub unknown: Option<GridRef<'a>>,
+    /// The declared world frame (scale bar and axes in metres).
+    pub world: Option<MapFrame>,
+}
+
 /// Writes `trajectory.{png,svg}` (map, global paths, driven trajectory, obstacles) and, when
 /// the first plan has a history, `convergence.{png,svg}` into `dir`.
 pub fn save_pictures(
     spec: &MissionSpec,
     result: &MissionResult,
     stations: &[(Cell, &'static str)],
+    look: MapLook<'_>,
     dir: &Path,
 ) -> anyhow::Result<()> {
+    let unit = if look.world.is_some() { "m" } else { "cells" };
     let title = format!(
-        "{}: {} global path, DWA trajectory ({:?}, {} replans)",
+        "{}: {} global path, DWA trajectory ({}, {} replans)",
         spec.name,
         spec.algo.name().to_uppercase(),
         result.outcome,
         result.replans
     );
     let mut pic = MapPicture::new(spec.grid.view(), &title);
+    pic.unknown = look.unknown;
+    pic.world = look.world;
     let labels: Vec<String> = result
         .plans
         .iter()
         .enumerate()
         .map(|(i, p)| {
             if i == 0 {
-                format!("global path (length {:.1})", p.length)
+                format!("global path (length {:.2} {unit})", p.length)
             } else if i == 1 {
                 "replanned paths".to_string()
             } else {
@@ -80,7 +95,10 @@ pub fn save_pictures(
         pic.layers
             .push(Layer::new(label, points, Style::dashed(*color, 1.0)));
     }
-    let driven = format!("driven trajectory (length {:.1})", result.driven_length);
+    let driven = format!(
+        "driven trajectory (length {:.2} {unit})",
+        result.driven_length
+    );
     pic.layers.push(Layer::new(
         &driven,
         &result.trajectory,
@@ -125,7 +143,7 @@ pub fn save_pictures(
         convergence_plot(
             &format!("{}: convergence of the global planner", spec.name),
             "iteration",
-            "best path cost (cells)",
+            "best cost found (cells; before pruning and smoothing)",
             &[Series::new(&label, &first.history)],
             Some(&dir.join("convergence.png")),
             Some(&dir.join("convergence.svg")),
@@ -137,7 +155,7 @@ pub fn save_pictures(
 /// One line of summary.
 pub fn summary(r: &MissionResult) -> String {
     format!(
-        "{}: {:?}, success {}, collisions {} static / {} dynamic, time {:.1} s, driven {:.1} vs planned {:.1} cells, RMS cross-track {:.2}, min clearance {:.2} static / {} dynamic, replans {}, stuck {}, oscillations {}",
+        "{}: {}, success {}, collisions {} static / {} dynamic, time {:.1} s, driven {:.2} vs planned {:.2} m, RMS cross-track {:.3} m, min clearance {:.3} m static / {} dynamic, replans {}, stuck {}, oscillations {}",
         r.name,
         r.outcome,
         r.success,
@@ -149,7 +167,7 @@ pub fn summary(r: &MissionResult) -> String {
         r.rms_cross_track,
         r.min_clearance_static,
         r.min_clearance_dynamic
-            .map_or_else(|| "—".to_string(), |c| format!("{c:.2}")),
+            .map_or_else(|| "—".to_string(), |c| format!("{c:.3} m")),
         r.replans,
         r.stuck_events,
         r.oscillation_events

@@ -49,6 +49,8 @@ impl Scenario {
         Ok(MissionSpec {
             name: self.name.to_string(),
             grid,
+            plan_grid: None,
+            metres_per_cell: 1.0,
             start: DwaState {
                 x: self.start.0 as f32,
                 y: self.start.1 as f32,

@@ -1,11 +1,14 @@
 //! Dynamic obstacles: people and other robots moving along aisles (scripted patrols between
 //! two points, or random errands between free cells), and parked robots.
 //!
-//! Movers follow polylines at their own speed and yield: a mover whose next 0.6 cells
-//! ahead would bring it within reach of the simulated robot, or who would meet the robot
-//! within the next second if both kept their velocities, waits; after waiting
-//! `patience` seconds it turns back (patrols) or picks a new errand (random movers), so
-//! nobody waits for ever face to face in a one-cell aisle.
+//! Movers follow polylines at their own speed and yield: a mover whose next 0.6 m ahead
+//! would bring it within reach of the simulated robot, or who would meet the robot within
+//! the next second if both kept their velocities, waits; after waiting `patience` seconds
+//! it turns back (patrols) or picks a new errand (random movers), so nobody waits for ever
+//! face to face in a one-cell aisle.
+//!
+//! Positions are in cells; sizes, speeds and distances are metres scaled by the map's
+//! cells per metre (1 on maps without a world frame, where a cell counts as a metre).
 
 use planner_core::dwa::DynamicDisc;
 use planner_core::geometry::{Cell, Point};
@@ -28,9 +31,9 @@ fn uniform(rng: &mut Xoshiro256PlusPlus, lo: f32, hi: f32) -> f32 {
 /// What an obstacle is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
 pub enum Kind {
-    /// A walking person (radius 0.25, up to 1.0 cell/s).
+    /// A walking person (radius 0.25 m, up to 1.0 m/s).
     Person,
-    /// Another robot (radius 0.3).
+    /// Another robot (radius 0.3 m).
     Robot,
     /// A robot or pallet that does not move.
     Parked,
@@ -134,6 +137,8 @@ pub struct World {
     /// allocates nothing per cell.
     errands: Option<Errands>,
     path: Box<Path<4096>>,
+    /// Cells per metre.
+    scale: f32,
 }
 
 /// Scratch of the errand searches: A* nodes (4 bytes a cell), a bounded open list, and on
@@ -197,13 +202,15 @@ impl Errands {
 }
 
 impl World {
-    /// A world with its own random stream (its grid comes with each call).
-    pub fn new(seed: u64) -> Self {
+    /// A world with its own random stream (its grid comes with each call), on a map of
+    /// `cells_per_metre` (1 where a cell counts as a metre).
+    pub fn new(seed: u64, cells_per_metre: f32) -> Self {
         World {
             agents: Vec::new(),
             rng: Xoshiro256PlusPlus::seed_from_u64(seed),
             errands: None,
             path: Box::new(Path::new()),
+            scale: cells_per_metre,
         }
     }
 
@@ -212,7 +219,7 @@ impl World {
         self.errands.get_or_insert_with(|| Errands::new(grid))
     }
 
-    /// A random errand route from `from`, avoiding cells within 2 of `avoid` as goals.
+    /// A random errand route from `from`, avoiding cells within 2.5 m of `avoid` as goals.
     /// Gives agent `i` a new errand from where it stands.
     fn send_on_errand(&mut self, i: usize, grid: GridRef<'_>, avoid: &[Point]) {
         let from = self.agents[i].pos;
@@ -227,6 +234,7 @@ impl World {
             return vec![from];
         };
         self.errands(grid);
+        let self_scale = self.scale;
         let World {
             rng, errands, path, ..
         } = self;
@@ -237,7 +245,10 @@ impl World {
             let Some(goal) = e.draw(rng, grid, Some(start)) else {
                 break;
             };
-            if avoid.iter().any(|a| a.distance(goal.center()) < 2.5) {
+            if avoid
+                .iter()
+                .any(|a| a.distance(goal.center()) < 2.5 * self_scale)
+            {
                 continue;
             }
             let out: &mut PathView = &mut **path;
@@ -274,7 +285,10 @@ impl World {
                 let Some(c) = e.draw(&mut self.rng, grid, near) else {
                     break;
                 };
-                if keep_clear.iter().all(|p| p.distance(c.center()) > 3.0) {
+                if keep_clear
+                    .iter()
+                    .all(|p| p.distance(c.center()) > 3.0 * self.scale)
+                {
                     at = Some(c.center());
                     break;
                 }
@@ -285,14 +299,15 @@ impl World {
                 Kind::Person => uniform(&mut self.rng, 0.5, 1.0),
                 _ => uniform(&mut self.rng, 0.4, 0.8),
             };
-            let mut a = Agent::new(kind, Behaviour::Random, route, speed);
+            let mut a = Agent::new(kind, Behaviour::Random, route, speed * self.scale);
+            a.radius *= self.scale;
             a.patience = uniform(&mut self.rng, 1.5, 4.0);
             self.agents.push(a);
         }
     }
 
-    /// Advances every mover by `dt`; `robot` is the simulated robot (position, radius) and
-    /// `robot_vel` its velocity (cells/s).
+    /// Advances every mover by `dt`; `robot` is the simulated robot (position, radius in
+    /// cells) and `robot_vel` its velocity (cells/s).
     pub fn step(
         &mut self,
         grid: GridRef<'_>,
@@ -301,6 +316,7 @@ impl World {
         robot_vel: (f32, f32),
         goal: Point,
     ) {
+        let k = self.scale;
         for i in 0..self.agents.len() {
             let a = &mut self.agents[i];
             a.vel = (0.0, 0.0);
@@ -323,10 +339,10 @@ impl World {
             } else {
                 (0.0, 0.0)
             };
-            // Yield to the robot: would the next 0.6 cells bring us within reach, or would
-            // we meet within the next second, both keeping our velocities?
-            let ahead = Point::new(a.pos.x + ux * 0.6, a.pos.y + uy * 0.6);
-            let reach = a.radius + robot.1 + 0.15;
+            // Yield to the robot: would the next 0.6 m bring us within reach, or would we
+            // meet within the next second, both keeping our velocities?
+            let ahead = Point::new(a.pos.x + ux * 0.6 * k, a.pos.y + uy * 0.6 * k);
+            let reach = a.radius + robot.1 + 0.15 * k;
             let closing = (robot.0.x - a.pos.x) * ux + (robot.0.y - a.pos.y) * uy > 0.0;
             let meet = (1..=10).any(|k| {
                 let t = k as f32 * 0.1;
@@ -339,7 +355,8 @@ impl World {
             });
             if meet
                 || closing
-                    && (ahead.distance(robot.0) < reach || a.pos.distance(robot.0) < reach + 0.3)
+                    && (ahead.distance(robot.0) < reach
+                        || a.pos.distance(robot.0) < reach + 0.3 * k)
             {
                 a.waited += dt;
                 if a.waited > a.patience {
@@ -410,7 +427,7 @@ mod tests {
     #[test]
     fn no_random_movers_no_errand_scratch() {
         let g = floor(40, 30);
-        let mut world = World::new(1);
+        let mut world = World::new(1, 1.0);
         world.add_random(g.view(), Kind::Person, 0, &[]);
         assert!(world.errands.is_none());
         world.add_random(g.view(), Kind::Person, 2, &[]);
@@ -424,7 +441,7 @@ mod tests {
         let g = floor(1000, 600);
         let v = g.view();
         let robot = Point::new(700.0, 100.0);
-        let mut world = World::new(7);
+        let mut world = World::new(7, 1.0);
         world.add_random(v, Kind::Robot, 6, &[robot]);
         let e = world.errands.as_ref().unwrap();
         assert!(!e.small && e.free.is_empty() && e.open.len() == ERRAND_OPEN);
