@@ -23,7 +23,7 @@ use super::bench::{fmt, print_table, progress, write_json};
 use crate::exit::{MissionFailed, bad};
 use crate::mapsrc::{self, Frame, MapFrame, MapOptions, warehouse};
 use crate::sim::mission::{self, MissionResult, MissionSpec, Outcome};
-use crate::sim::planner::{GlobalPlanner, InProcess, PlanRequest, PlannerChoice};
+use crate::sim::planner::{GlobalPlanner, InProcess, PlanFailure, PlanRequest, PlannerChoice};
 use crate::sim::report::MapLook;
 use crate::sim::robot::Robot;
 use crate::sim::scenarios::{self, mission_params};
@@ -202,6 +202,13 @@ fn run_with_bar(
     }
     let mut planner = choice.build(Some(&out.join("planner-server.log")))?;
     if choice == PlannerChoice::Ipc {
+        // A map the service refuses is the user's to change: bad input, with the way out.
+        let grid = spec.plan_grid.as_ref().unwrap_or(&spec.grid);
+        if let Err(PlanFailure::MapTooLarge(why)) = planner.set_map(grid.view()) {
+            return Err(bad(format!(
+                "MapTooLarge: {why}; --planner inproc plans any map within --max-cells"
+            )));
+        }
         println!("global planner: {} over iceoryx2", spec.algo.name());
     }
     let bar = progress(100, "driving");

@@ -181,6 +181,7 @@ impl Drop for IpcPlanner {
 fn failure(e: ClientError) -> PlanFailure {
     match e {
         ClientError::Plan(p) => p.into(),
+        e @ ClientError::MapTooLarge(_) => PlanFailure::MapTooLarge(e.to_string()),
         other => PlanFailure::Transport(other.to_string()),
     }
 }
@@ -254,7 +255,7 @@ mod tests {
         let want = e.to_string();
         assert!(want.contains("--max-cells 25000000"), "{want}");
         match failure(e) {
-            PlanFailure::Transport(message) => assert_eq!(message, want),
+            PlanFailure::MapTooLarge(message) => assert_eq!(message, want),
             other => panic!("{other:?}"),
         }
         assert_eq!(

@@ -49,6 +49,8 @@ pub enum PlanFailure {
     Unreachable,
     /// Any other planner error (an endpoint, budget, parameters, capacity).
     Planner(PlanError),
+    /// The planner service does not take a map this large (the message names its limit).
+    MapTooLarge(String),
     /// The transport to a planner service failed.
     Transport(String),
 }
@@ -58,6 +60,7 @@ impl std::fmt::Display for PlanFailure {
         match self {
             PlanFailure::Unreachable => f.write_str("Unreachable"),
             PlanFailure::Planner(e) => write!(f, "{}: {e}", e.name()),
+            PlanFailure::MapTooLarge(e) => write!(f, "MapTooLarge: {e}"),
             PlanFailure::Transport(e) => write!(f, "transport: {e}"),
         }
     }
