@@ -5,7 +5,7 @@ use planner_core::geometry::Cell;
 use planner_core::grid::{Grid, words_for};
 use planner_core::optim::any::{AlgorithmKind, AnyOptimizer};
 use planner_core::path::{Path, validate};
-use planner_core::planner::{GuideKind, PlanParams, Workspace, plan};
+use planner_core::planner::{GuideKind, PlanOptions, PlanParams, PlanStorageMut, plan};
 use planner_core::search::astar::{AStarNode, OpenSlot, open_capacity};
 use planner_core::search::{SearchNode, astar, theta};
 use std::time::Instant;
@@ -62,27 +62,18 @@ fn main() {
             guide: GuideKind::AStar,
             ..PlanParams::new(algo)
         };
-        let mut ws = Workspace {
+        let mut ws = PlanStorageMut {
             anyangle: None,
             nodes: &mut astar_nodes,
             open: &mut open,
             guide: &mut *guide,
             visited: &mut visited,
             stations: &mut [Station::EMPTY; 64],
+            optimizer: &mut AnyOptimizer::<30, 64>::unconfigured(),
+            out: &mut *p,
         };
         let t0 = Instant::now();
-        let r = plan(
-            grid.view(),
-            s,
-            g,
-            &params,
-            &mut ws,
-            &mut AnyOptimizer::<30, 64>::unconfigured(),
-            &mut *p,
-            &mut [],
-            &mut || false,
-        )
-        .unwrap();
+        let r = plan(grid.view(), s, g, &params, &mut ws, PlanOptions::default()).unwrap();
         t_ours += t0.elapsed().as_secs_f64();
         assert!(validate(grid.view(), &p, s, g).is_ok());
         sum_opt += opt;

@@ -31,7 +31,8 @@ use planner_core::optim::any::AnyOptimizer;
 use planner_core::path::Path;
 use planner_core::planner::aco::{self, AcoParams, AcoWorkspace};
 use planner_core::planner::{
-    self, AnyAngleWorkspace, EncodingKind, InitKind, PlanParams, PlanReport, PlannerKind, Workspace,
+    self, AnyAngleWorkspace, EncodingKind, InitKind, PlanOptions, PlanParams, PlanReport,
+    PlanStorageMut, PlannerKind,
 };
 use planner_core::search::anyangle::{self, Link, Mesh, Node, Rect, Roots, Scratch};
 use planner_core::search::astar::{AStarNode, OpenSlot};
@@ -274,7 +275,10 @@ fn run(
             let (mut rects, mut links) = (vec![Rect::EMPTY; CELLS], vec![Link::EMPTY; 2 * CELLS]);
             let mesh = Mesh::build(grid, &mut rects, &mut links)?;
             let (mut roots, mut search) = (vec![Roots::EMPTY; CELLS], vec![Node::EMPTY; 4 * CELLS]);
-            let mut ws = Workspace {
+            let mut history = [0.0f32; 16];
+            // Boxed: the optimizer state of a swarm does not belong on a test thread's stack.
+            let mut optimizer = Box::new(AnyOptimizer::<N, D>::unconfigured());
+            let mut ws = PlanStorageMut {
                 anyangle: Some(AnyAngleWorkspace {
                     mesh,
                     scratch: Scratch {
@@ -287,22 +291,14 @@ fn run(
                 guide: &mut guide,
                 visited: &mut visited,
                 stations: &mut stations,
-            };
-            let mut history = [0.0f32; 16];
-            // Boxed: the optimizer state of a swarm does not belong on a test thread's stack.
-            let mut optimizer = Box::new(AnyOptimizer::<N, D>::unconfigured());
-            planner::plan::<N, D, _>(
-                grid,
-                start,
-                goal,
-                params,
-                &mut ws,
-                &mut *optimizer,
+                optimizer: &mut *optimizer,
                 out,
-                &mut history,
-                &mut || false,
-            )
-            .map(Some)
+            };
+            let options = PlanOptions {
+                history: &mut history,
+                interrupt: None,
+            };
+            planner::plan::<N, D, _>(grid, start, goal, params, &mut ws, options).map(Some)
         }
     }
 }

@@ -32,9 +32,9 @@ echo "|---|---|---|---|"
 echo "| flash (.vector_table+.text+.rodata+.data) | $flash B ($(kib $flash)) | $(kib $FLASH_BUDGET) | $(check f $flash $FLASH_BUDGET) |"
 echo "| static RAM (.data $data + .bss $bss) | $sram B ($(kib $sram)) | | |"
 symsize() { printf '%d' "0x$(arm-none-eabi-nm -S -C "$elf" | awk -v s="$1" '$4 == s { print $2 }')"; }
-search=$(symsize planner_firmware::SEARCH); storage=$(symsize planner_firmware::STORAGE)
-echo "| - any-angle mesh, roots and open list, then the DWA loop's A* state (static SEARCH) | $search B ($(kib $search)) | | |"
-echo "| - map, paths, stations, TCLHHO or IGWO state (static STORAGE) | $storage B ($(kib $storage)) | | |"
+planner=$(symsize planner_firmware::PLANNER); site=$(symsize planner_firmware::SITE)
+echo "| - PlanStorage (any-angle mesh and scratch, guide, stations, TCLHHO or IGWO, path), then the DWA loop's A* state (static PLANNER) | $planner B ($(kib $planner)) | | |"
+echo "| - map, start and goal (static SITE) | $site B ($(kib $site)) | | |"
 echo "| peak stack (painting) | $stack B ($(kib $stack)) | | |"
 echo "| static RAM + stack | $ram B ($(kib $ram)) | $(kib $RAM_BUDGET) | $(check r $ram $RAM_BUDGET) |"
 # FOOTPRINT_WAIVE="ram" (or "flash", "ram flash") reports an exceeded budget as WAIVED
@@ -51,7 +51,7 @@ over() { # name
 # The planner state must be zero-initialised (.bss): one non-zero byte in its initialiser
 # would put all of it in .data, copied from an equally large flash image (see
 # `Swarm::unconfigured` in planner-core).
-for s in STORAGE SEARCH; do
+for s in PLANNER SITE; do
     kind=$(arm-none-eabi-nm -C "$elf" | awk -v s="planner_firmware::$s" '$3 == s { print $2 }')
     if [ "$kind" != b ] && [ "$kind" != B ]; then
         echo "FAIL: static $s is not in .bss (nm type '$kind')" >&2

@@ -10,7 +10,7 @@
 #[path = "../firmware/src/scenario.rs"]
 mod scenario;
 
-use scenario::{AnyAngleState, CASES, Nodes, Storage};
+use scenario::{CASES, Nodes, Site, Storage};
 
 /// The firmware's `case` line without its tick and instruction counts (run.sh compares them).
 fn print_case(name: &str, o: &scenario::Outcome) {
@@ -29,8 +29,8 @@ fn print_case(name: &str, o: &scenario::Outcome) {
 
 #[test]
 fn host_digest_matches_the_mcu() {
-    let mut s = Box::new(Storage::new());
-    let mut aa = Box::new(AnyAngleState::new());
+    let mut s = Box::new(Site::new());
+    let mut storage = Box::new(Storage::new());
     let mut nodes = Box::new(Nodes::new());
     let mut digests = Vec::new();
     let mut loaded = 0;
@@ -38,17 +38,17 @@ fn host_digest_matches_the_mcu() {
         if case.side != loaded {
             scenario::load(&mut s, case.side).unwrap();
             loaded = case.side;
-            let o = scenario::prepare(&s, &mut aa);
+            let o = scenario::prepare(&s, &mut storage);
             print_case(if loaded == 40 { "mesh-40" } else { "mesh-64" }, &o);
             assert_eq!(o.status, 0, "mesh of the {loaded} map");
             digests.push(o.digest);
         }
-        let o = scenario::run_case(&mut s, &mut aa, i);
+        let o = scenario::run_case(&s, &mut storage, i);
         print_case(case.name, &o);
         assert_eq!((o.status, o.valid), (0, 1), "{}", case.name);
         digests.push(o.digest);
     }
-    let o = scenario::dwa_control_loop(&mut s, &mut nodes).expect("a route for the DWA loop");
+    let o = scenario::dwa_control_loop(&s, &mut nodes).expect("a route for the DWA loop");
     print_case("dwa", &o);
     assert_eq!(
         (o.status, o.valid),

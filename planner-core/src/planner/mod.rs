@@ -7,41 +7,36 @@
 //! validates the result. It returns a path only if it is valid under the collision rule (or
 //! under seed 003's looser rule when that reproduction option was asked for).
 //!
+//! [`PlanStorage`] holds everything a plan needs (capacities as constants, a zeroed
+//! `static` in firmware); [`PlanStorageMut`] is the same as borrowed buffers, for storage sized
+//! at run time:
+//!
 //! ```
-//! use planner_core::{grid::{words_for, Grid}, geometry::Cell, path::Path};
-//! use planner_core::search::anyangle::{Link, Mesh, Node, Rect, Roots, Scratch};
-//! use planner_core::planner::{plan, AnyAngleWorkspace, PlanParams, Workspace};
-//! use planner_core::encoding::corridor::Station;
-//! use planner_core::optim::any::{AlgorithmKind, AnyOptimizer};
+//! use planner_core::{geometry::Cell, grid::{words_for, Grid}};
+//! use planner_core::planner::{AlgorithmKind, PlanOptions, PlanParams, PlanStorage};
 //!
 //! let grid: Grid<{ words_for(12, 6) }> = Grid::parse_rows(
 //!     b"............\n....@@@@....\n....@@@@....\n............\n..@@@@@@@@..\n............\n")?;
-//! // The map's mesh (once per map) and a query's scratch, for the any-angle guide route.
-//! let (mut rects, mut links) = ([Rect::EMPTY; 16], [Link::EMPTY; 32]);
-//! let mesh = Mesh::build(grid.view(), &mut rects, &mut links)?;
-//! let (mut roots, mut search) = ([Roots::EMPTY; 16], [Node::EMPTY; 64]);
-//! let mut guide: Path<128> = Path::new();
-//! let mut stations = [Station::EMPTY; 16];
-//! // The any-angle guide needs no A* nodes, and the corridor encoding no `visited` bitset
-//! // (only the walk encoding does).
-//! let mut ws = Workspace {
-//!     anyangle: Some(AnyAngleWorkspace { mesh, scratch: Scratch { roots: &mut roots, open: &mut search } }),
-//!     nodes: &mut [], open: &mut [], guide: &mut guide, visited: &mut [], stations: &mut stations,
-//! };
-//! // Any `PlanOptimizer`: `AnyOptimizer` serves every algorithm; firmware keeps a `Hho` or a
-//! // `Gwo` in a `static` instead (see `PlanOptimizer`).
-//! let mut optimizer = AnyOptimizer::<30, 16>::unconfigured();
+//! // Population 30, dimension 16, paths of 128 waypoints, mesh of 16 rectangles and 32
+//! // links, 64 open any-angle nodes.
+//! let mut storage = Box::new(PlanStorage::<30, 16, 128, 16, 32, 64>::new());
+//! storage.prepare(grid.view())?; // once per map
 //! let params = PlanParams { iterations: 60, ..PlanParams::new(AlgorithmKind::Tclhho) };
-//! let mut path: Path<128> = Path::new();
-//! let report = plan(grid.view(), Cell::new(0, 2), Cell::new(11, 3), &params, &mut ws, &mut optimizer, &mut path, &mut [], &mut || false)?;
-//! assert!(report.length <= report.initial_cost);
+//! let report = storage.plan(grid.view(), Cell::new(0, 2), Cell::new(11, 3), &params, PlanOptions::default())?;
+//! assert!(report.length <= report.initial_cost && storage.path().len() >= 2);
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
 pub mod aco;
 mod guide;
+pub mod optimizers;
 #[cfg(feature = "alloc")]
 pub mod owned;
+mod storage;
+
+pub use crate::optim::any::AlgorithmKind;
+pub use optimizers::{HhoOrGwo, PlanOptimizer};
+pub use storage::PlanStorage;
 
 use crate::encoding::Encoding;
 use crate::encoding::column::ColumnEncoding;
@@ -50,11 +45,8 @@ use crate::encoding::walk::{CornerRule, WalkEncoding, validate_walk};
 use crate::error::PlanError;
 use crate::geometry::Cell;
 use crate::grid::GridRef;
-use crate::optim::any::{AlgorithmKind, AnyOptimizer};
-use crate::optim::gwo::{Gwo, GwoParams};
-use crate::optim::hho::{Hho, HhoParams};
 use crate::optim::random::Random;
-use crate::optim::{Bounds, Objective, OptimError, Optimizer, Settings};
+use crate::optim::{Bounds, Objective, OptimError, Settings};
 use crate::path::{self, PathView};
 use crate::search::anyangle::{self, Mesh, Scratch};
 use crate::search::astar::{self, AStarNode, OpenSlot};
@@ -157,12 +149,12 @@ impl EncodingKind {
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum GuideKind {
     /// The shortest any-angle path ([`crate::search::anyangle`]), so that the plan
-    /// starts in the class of the shortest path. Needs [`Workspace::anyangle`].
+    /// starts in the class of the shortest path. Needs [`PlanStorageMut::anyangle`].
     #[default]
     AnyAngle,
     /// The octile A* route. Many routes tie under octile costs, and the one A* keeps is often
-    /// not in the class of the shortest any-angle path. Needs [`Workspace::nodes`] and
-    /// [`Workspace::open`].
+    /// not in the class of the shortest any-angle path. Needs [`PlanStorageMut::nodes`] and
+    /// [`PlanStorageMut::open`].
     AStar,
 }
 
@@ -327,8 +319,10 @@ pub struct PlanReport {
     pub guide: Option<GuideKind>,
 }
 
-/// Caller-owned scratch of a plan; no allocation happens inside [`plan`].
-pub struct Workspace<'a> {
+/// Everything [`plan`] works in, borrowed from the caller (no allocation happens inside):
+/// the view of a [`PlanStorage`] (firmware, any capacity as constants) or of a host's
+/// buffers sized at run time. `O` is the optimizer ([`PlanOptimizer`]).
+pub struct PlanStorageMut<'a, O> {
     /// The map's mesh and a query's scratch for the any-angle guide
     /// ([`GuideKind::AnyAngle`]; `None` with that guide is
     /// [`PlanError::InvalidParameters`]).
@@ -345,9 +339,24 @@ pub struct Workspace<'a> {
     /// it, so they may pass an empty slice (the walk encoding then fails with
     /// [`PlanError::CapacityExceeded`]).
     pub visited: &'a mut [u32],
-    /// The stations of the corridor encoding: `D` of them use every dimension of a plan
-    /// with capacity `D` (fewer cap the number of decision variables at `len - 2`).
+    /// The stations of the corridor encoding: at least `D` for an optimizer of dimension
+    /// capacity `D` (fewer are [`PlanError::CapacityExceeded`]).
     pub stations: &'a mut [Station],
+    /// The optimizer, configured in place for the plan's algorithm.
+    pub optimizer: &'a mut O,
+    /// The planned path.
+    pub out: &'a mut PathView,
+}
+
+/// How a plan reports its progress and may be stopped; [`PlanOptions::default`] asks for
+/// neither.
+#[derive(Default)]
+pub struct PlanOptions<'a> {
+    /// Receives the best cost per iteration while it has room.
+    pub history: &'a mut [f32],
+    /// Called once per iteration: `true` stops early with the best path so far (a deadline
+    /// or a cancellation).
+    pub interrupt: Option<&'a mut dyn FnMut() -> bool>,
 }
 
 /// What the any-angle guide needs: the map's mesh (built once per map) and a query's
@@ -357,66 +366,6 @@ pub struct AnyAngleWorkspace<'a> {
     pub mesh: Mesh<'a>,
     /// The search's scratch.
     pub scratch: Scratch<'a>,
-}
-
-/// The optimizer storage [`plan`] runs: it configures the algorithm in place, so firmware can
-/// keep the whole optimizer state in a `static` (no large temporary on the stack).
-///
-/// [`AnyOptimizer`] serves every [`AlgorithmKind`]; its size is that of its largest variant
-/// (PSO). [`Hho`] serves HHO and TCLHHO only and [`Gwo`] GWO, TGWO and IGWO only (about a
-/// third of that size): other kinds are [`PlanError::InvalidParameters`].
-pub trait PlanOptimizer<const N: usize, const D: usize>: Optimizer {
-    /// Configures `kind` with its default (paper) parameters, in place.
-    fn configure_kind(
-        &mut self,
-        kind: AlgorithmKind,
-        settings: Settings,
-        bounds: &Bounds<D>,
-    ) -> Result<(), OptimError>;
-}
-
-impl<const N: usize, const D: usize> PlanOptimizer<N, D> for AnyOptimizer<N, D> {
-    fn configure_kind(
-        &mut self,
-        kind: AlgorithmKind,
-        settings: Settings,
-        bounds: &Bounds<D>,
-    ) -> Result<(), OptimError> {
-        self.configure(kind, settings, bounds)
-    }
-}
-
-impl<const N: usize, const D: usize> PlanOptimizer<N, D> for Hho<N, D> {
-    fn configure_kind(
-        &mut self,
-        kind: AlgorithmKind,
-        settings: Settings,
-        bounds: &Bounds<D>,
-    ) -> Result<(), OptimError> {
-        let params = match kind {
-            AlgorithmKind::Hho => HhoParams::hho(),
-            AlgorithmKind::Tclhho => HhoParams::tclhho(),
-            _ => return Err(OptimError::UnknownName),
-        };
-        self.configure(settings, bounds, params)
-    }
-}
-
-impl<const N: usize, const D: usize> PlanOptimizer<N, D> for Gwo<N, D> {
-    fn configure_kind(
-        &mut self,
-        kind: AlgorithmKind,
-        settings: Settings,
-        bounds: &Bounds<D>,
-    ) -> Result<(), OptimError> {
-        let params = match kind {
-            AlgorithmKind::Gwo => GwoParams::gwo(),
-            AlgorithmKind::Tgwo => GwoParams::tgwo(),
-            AlgorithmKind::Igwo => GwoParams::igwo(),
-            _ => return Err(OptimError::UnknownName),
-        };
-        self.configure(settings, bounds, params)
-    }
 }
 
 /// The any-angle guide's search may expand one node per this many cells of the map (at
@@ -442,30 +391,42 @@ fn optim_error(e: OptimError) -> PlanError {
     }
 }
 
-/// Plans `start -> goal` with `optimizer` (capacity `N` members and `D` dimensions), which
-/// it configures for `params.algorithm`.
-///
-/// `history` receives the best cost per iteration while it has room; `interrupt` is called
-/// once per iteration and returns `true` to stop early with the best path so far (deadline
-/// or cancellation).
+/// Plans `start -> goal` into `storage.out` with `storage.optimizer` (capacity `N` members
+/// and `D` dimensions), which it configures for `params.algorithm`; `options` take the
+/// per-iteration history and an interrupt.
 ///
 /// Errors: the endpoint checks, [`PlanError::NoValidPath`] when the goal is unreachable
 /// (exact, before optimising), [`PlanError::InvalidParameters`] for NaN or out-of-range
 /// parameters and unsupported combinations, [`PlanError::CapacityExceeded`] when a buffer or
 /// `N`/`D` is too small, [`PlanError::BudgetExhausted`] when a reproduction encoding ends
 /// with an infeasible best (the papers' "—").
-#[allow(clippy::too_many_arguments)]
 pub fn plan<const N: usize, const D: usize, O: PlanOptimizer<N, D>>(
     grid: GridRef<'_>,
     start: Cell,
     goal: Cell,
     params: &PlanParams,
-    ws: &mut Workspace<'_>,
-    optimizer: &mut O,
-    out: &mut PathView,
-    history: &mut [f32],
-    interrupt: &mut dyn FnMut() -> bool,
+    storage: &mut PlanStorageMut<'_, O>,
+    options: PlanOptions<'_>,
 ) -> Result<PlanReport, PlanError> {
+    let PlanStorageMut {
+        anyangle,
+        nodes,
+        open,
+        guide,
+        visited,
+        stations,
+        optimizer,
+        out,
+    } = storage;
+    let (optimizer, out) = (&mut **optimizer, &mut **out);
+    let (nodes, open, guide) = (&mut **nodes, &mut **open, &mut **guide);
+    let (visited, stations) = (&mut **visited, &mut **stations);
+    let history = options.history;
+    let mut never = || false;
+    let interrupt: &mut dyn FnMut() -> bool = match options.interrupt {
+        Some(f) => f,
+        None => &mut never,
+    };
     check_endpoints(grid, start, goal)?;
     check_params(params)?;
     // Checked here as well as by the optimizer, so that a query that needs no optimizing
@@ -477,7 +438,7 @@ pub fn plan<const N: usize, const D: usize, O: PlanOptimizer<N, D>>(
     // start's component before it reports NoValidPath.
     let guide_used = match params.guide {
         GuideKind::AnyAngle => {
-            let aa = ws.anyangle.as_mut().ok_or(PlanError::InvalidParameters)?;
+            let aa = anyangle.as_mut().ok_or(PlanError::InvalidParameters)?;
             let scratch = Scratch {
                 roots: &mut *aa.scratch.roots,
                 open: &mut *aa.scratch.open,
@@ -491,41 +452,39 @@ pub fn plan<const N: usize, const D: usize, O: PlanOptimizer<N, D>>(
             match anyangle::plan_within(grid, &aa.mesh, start, goal, scratch, out, budget) {
                 Ok(_) => {
                     guide::relax(grid, out, params.guide_relax);
-                    guide::resample(grid, out, ws.guide);
+                    guide::resample(grid, out, guide);
                     GuideKind::AnyAngle
                 }
-                Err(PlanError::BudgetExhausted) if ws.nodes.len() >= grid.cells() => {
-                    astar::plan(grid, start, goal, ws.nodes, ws.open, ws.guide)?;
+                Err(PlanError::BudgetExhausted) if nodes.len() >= grid.cells() => {
+                    astar::plan(grid, start, goal, nodes, open, guide)?;
                     GuideKind::AStar
                 }
                 Err(e) => return Err(e),
             }
         }
         GuideKind::AStar => {
-            astar::plan(grid, start, goal, ws.nodes, ws.open, ws.guide)?;
+            astar::plan(grid, start, goal, nodes, open, guide)?;
             GuideKind::AStar
         }
     };
     let mut report = match params.encoding {
         EncodingKind::Corridor => {
-            if ws.guide.len() <= 2 {
-                return trivial(grid, ws.guide, out);
+            if guide.len() <= 2 {
+                return trivial(grid, guide, out);
             }
             // Stations include the two fixed ends, so at most D - 2 of them move.
-            let stations = match ws.stations.len() {
-                n if n > D => &mut ws.stations[..D],
-                _ => &mut *ws.stations,
-            };
+            // One station per dimension: fewer would cap the plan's decision variables.
+            let stations = stations.get_mut(..D).ok_or(PlanError::CapacityExceeded)?;
             let mut enc = CorridorEncoding::build(
                 grid,
-                ws.guide,
+                guide,
                 params.corridor_spacing,
                 params.corridor_radius,
                 D,
                 stations,
             )?;
             if enc.dim() == 0 {
-                return trivial(grid, ws.guide, out);
+                return trivial(grid, guide, out);
             }
             optimise(
                 grid, start, goal, params, &mut enc, None, optimizer, out, history, interrupt,
@@ -550,11 +509,11 @@ pub fn plan<const N: usize, const D: usize, O: PlanOptimizer<N, D>>(
                 return Err(PlanError::CapacityExceeded);
             }
             if start == goal {
-                return trivial(grid, ws.guide, out);
+                return trivial(grid, guide, out);
             }
             let rule = params.corner_rule;
             let mut enc =
-                WalkEncoding::new(grid, start, goal, steps, rule, params.walk_beta, ws.visited)?;
+                WalkEncoding::new(grid, start, goal, steps, rule, params.walk_beta, visited)?;
             optimise(
                 grid,
                 start,

@@ -12,7 +12,9 @@ use alloc::vec;
 use alloc::vec::Vec;
 
 use super::aco::{self, AcoParams, AcoWorkspace};
-use super::{AnyAngleWorkspace, PlanParams, PlanReport, PlannerKind, Workspace, plan};
+use super::{
+    AnyAngleWorkspace, PlanOptions, PlanParams, PlanReport, PlanStorageMut, PlannerKind, plan,
+};
 use crate::encoding::corridor::Station;
 use crate::error::PlanError;
 use crate::geometry::Cell;
@@ -174,7 +176,7 @@ impl HostPlanner {
         history: &mut [f32],
         interrupt: &mut dyn FnMut() -> bool,
     ) -> Result<PlanReport, PlanError> {
-        let mut ws = Workspace {
+        let mut storage = PlanStorageMut {
             anyangle: Some(AnyAngleWorkspace {
                 mesh: self.mesh.mesh(),
                 scratch: Scratch {
@@ -187,18 +189,14 @@ impl HostPlanner {
             guide: &mut *self.guide,
             visited: &mut self.visited,
             stations: &mut self.stations[..],
-        };
-        plan(
-            grid,
-            start,
-            goal,
-            params,
-            &mut ws,
-            &mut *self.optimizer,
+            optimizer: &mut *self.optimizer,
             out,
+        };
+        let options = PlanOptions {
             history,
-            interrupt,
-        )
+            interrupt: Some(interrupt),
+        };
+        plan(grid, start, goal, params, &mut storage, options)
     }
 
     /// Plans with any planner on the prepared map (`grid` must be the one passed to

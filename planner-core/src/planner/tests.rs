@@ -2,6 +2,7 @@ use super::*;
 use crate::encoding::corridor::Station;
 use crate::grid::{Grid, words_for};
 use crate::maps::{MapKind, lab_20x20, seed000};
+use crate::optim::any::AnyOptimizer;
 use crate::path::{Path, validate};
 use crate::search::anyangle::{Link, Node, Rect, Roots};
 use crate::search::connectivity;
@@ -34,10 +35,16 @@ impl Scratch {
         })
     }
 
-    /// The workspace for plans on `g` (its mesh built here).
-    fn workspace<'a>(&'a mut self, g: &G, stations: &'a mut [Station]) -> Workspace<'a> {
+    /// The storage for plans on `g` (its mesh built here).
+    fn workspace<'a, O>(
+        &'a mut self,
+        g: &G,
+        stations: &'a mut [Station],
+        optimizer: &'a mut O,
+        out: &'a mut PathView,
+    ) -> PlanStorageMut<'a, O> {
         let mesh = Mesh::build(g.view(), &mut self.rects, &mut self.links).unwrap();
-        Workspace {
+        PlanStorageMut {
             anyangle: Some(AnyAngleWorkspace {
                 mesh,
                 scratch: anyangle::Scratch {
@@ -50,6 +57,8 @@ impl Scratch {
             guide: &mut self.guide,
             visited: &mut self.visited,
             stations,
+            optimizer,
+            out,
         }
     }
 
@@ -61,19 +70,10 @@ impl Scratch {
         p: &PlanParams,
     ) -> Result<(PlanReport, Path<1600>), PlanError> {
         let mut stations = [Station::EMPTY; 64];
-        let mut ws = self.workspace(g, &mut stations);
         let mut out: Path<1600> = Path::new();
-        let r = plan(
-            g.view(),
-            s,
-            t,
-            p,
-            &mut ws,
-            &mut AnyOptimizer::<30, 64>::unconfigured(),
-            &mut out,
-            &mut [],
-            &mut || false,
-        )?;
+        let mut optimizer = AnyOptimizer::<30, 64>::unconfigured();
+        let mut ws = self.workspace(g, &mut stations, &mut optimizer, &mut out);
+        let r = plan(g.view(), s, t, p, &mut ws, PlanOptions::default())?;
         Ok((r, out))
     }
 }
@@ -279,15 +279,17 @@ fn every_error_from_bad_input() {
     let mut open = [OpenSlot::EMPTY; 4];
     let mut guide: Path<4> = Path::new();
     let mut visited = [0u32; 1];
-    let mut ws = Workspace {
+    let mut out: Path<4> = Path::new();
+    let mut ws = PlanStorageMut {
         anyangle: None,
         nodes: &mut nodes,
         open: &mut open,
         guide: &mut guide,
         visited: &mut visited,
         stations: &mut [Station::EMPTY; 64],
+        optimizer: &mut AnyOptimizer::<30, 8>::unconfigured(),
+        out: &mut out,
     };
-    let mut out: Path<4> = Path::new();
     let p = PlanParams {
         guide: GuideKind::AStar,
         ..p
@@ -299,10 +301,7 @@ fn every_error_from_bad_input() {
             c(3, 2),
             &p,
             &mut ws,
-            &mut AnyOptimizer::<30, 8>::unconfigured(),
-            &mut out,
-            &mut [],
-            &mut || false
+            PlanOptions::default(),
         )
         .unwrap_err(),
         PlanError::CapacityExceeded
@@ -333,23 +332,26 @@ fn trivial_queries_and_interrupts() {
     assert_eq!(r.stop, PlanStop::Trivial);
     let m = seed000::<{ words_for(40, 40) }>(MapKind::Warehouse, 30).unwrap();
     let mut stations = [Station::EMPTY; 64];
-    let mut ws = sc.workspace(&m.grid, &mut stations);
     let mut out: Path<1600> = Path::new();
+    let mut optimizer = AnyOptimizer::<30, 64>::unconfigured();
+    let mut ws = sc.workspace(&m.grid, &mut stations, &mut optimizer, &mut out);
     let mut calls = 0;
     let mut hist = [0.0f32; 500];
+    let mut interrupt = || {
+        calls += 1;
+        calls > 5
+    };
+    let options = PlanOptions {
+        history: &mut hist,
+        interrupt: Some(&mut interrupt),
+    };
     let r = plan(
         m.grid.view(),
         m.start,
         m.goal,
         &quick(AlgorithmKind::Tclhho),
         &mut ws,
-        &mut AnyOptimizer::<30, 64>::unconfigured(),
-        &mut out,
-        &mut hist,
-        &mut || {
-            calls += 1;
-            calls > 5
-        },
+        options,
     )
     .unwrap();
     assert_eq!(
@@ -473,25 +475,24 @@ fn anyangle_guide_without_its_workspace_is_invalid() {
     let g = G::new(8, 8).unwrap();
     let (mut nodes, mut open) = ([AStarNode::EMPTY; 64], [OpenSlot::EMPTY; 64]);
     let mut guide: Path<64> = Path::new();
-    let mut ws = Workspace {
+    let mut out: Path<64> = Path::new();
+    let mut ws = PlanStorageMut {
         anyangle: None,
         nodes: &mut nodes,
         open: &mut open,
         guide: &mut guide,
         visited: &mut [],
         stations: &mut [Station::EMPTY; 16],
+        optimizer: &mut AnyOptimizer::<30, 16>::unconfigured(),
+        out: &mut out,
     };
-    let mut out: Path<64> = Path::new();
     let r = plan(
         g.view(),
         Cell::new(0, 0),
         Cell::new(7, 7),
         &quick(AlgorithmKind::Tclhho),
         &mut ws,
-        &mut AnyOptimizer::<30, 16>::unconfigured(),
-        &mut out,
-        &mut [],
-        &mut || false,
+        PlanOptions::default(),
     );
     assert_eq!(r.unwrap_err(), PlanError::InvalidParameters);
 }
@@ -510,13 +511,15 @@ fn visited_bitset_only_for_the_walk_encoding() {
         (EncodingKind::Column, None),
         (EncodingKind::Walk, Some(PlanError::CapacityExceeded)),
     ] {
-        let mut ws = Workspace {
+        let mut ws = PlanStorageMut {
             anyangle: None,
             nodes: &mut nodes,
             open: &mut open,
             guide: &mut guide,
             visited: &mut [],
             stations: &mut [Station::EMPTY; 64],
+            optimizer: &mut *Box::new(AnyOptimizer::<30, 64>::unconfigured()),
+            out: &mut out,
         };
         let p = PlanParams {
             encoding,
@@ -530,10 +533,7 @@ fn visited_bitset_only_for_the_walk_encoding() {
             lab.goal,
             &p,
             &mut ws,
-            &mut *Box::new(AnyOptimizer::<30, 64>::unconfigured()),
-            &mut out,
-            &mut [],
-            &mut || false,
+            PlanOptions::default(),
         );
         match want {
             Some(e) => assert_eq!(r.unwrap_err(), e, "{encoding:?}"),
@@ -590,4 +590,119 @@ fn dense_lattices_fall_back_to_the_a_star_guide() {
     // A short query stays within the bound.
     let near = run(&mut planner, &mut out, s, Cell::new(20, 1));
     assert_eq!(near.report.unwrap().guide, Some(GuideKind::AnyAngle));
+}
+
+/// [`PlanStorage`] plans as [`plan`] does over the same buffers with [`HhoOrGwo`], switches
+/// family in place, and refuses a map it was not prepared for.
+#[test]
+fn plan_storage_plans_like_the_borrowed_buffers() {
+    let m = seed000::<{ words_for(40, 40) }>(MapKind::Warehouse, 40).unwrap();
+    let mut storage = Box::new(PlanStorage::<30, 64, 256, 144, 272, 300>::new());
+    let p = |algo| PlanParams {
+        iterations: 40,
+        ..PlanParams::new(algo)
+    };
+    assert_eq!(
+        storage.plan(
+            m.grid.view(),
+            m.start,
+            m.goal,
+            &p(AlgorithmKind::Tclhho),
+            PlanOptions::default()
+        ),
+        Err(PlanError::InvalidParameters),
+        "not prepared"
+    );
+    storage.prepare(m.grid.view()).unwrap();
+    for algo in [
+        AlgorithmKind::Tclhho,
+        AlgorithmKind::Igwo,
+        AlgorithmKind::Tclhho,
+    ] {
+        let r = storage
+            .plan(
+                m.grid.view(),
+                m.start,
+                m.goal,
+                &p(algo),
+                PlanOptions::default(),
+            )
+            .unwrap();
+        assert_eq!(
+            validate(m.grid.view(), storage.path(), m.start, m.goal),
+            Ok(())
+        );
+        // The same plan over borrowed buffers.
+        let mut sc = Scratch::new();
+        let mut stations = [Station::EMPTY; 64];
+        let mut out: Path<1600> = Path::new();
+        let mut optimizer = Box::new(HhoOrGwo::<30, 64>::unconfigured());
+        let mut ws = sc.workspace(&m.grid, &mut stations, &mut *optimizer, &mut out);
+        let again = plan(
+            m.grid.view(),
+            m.start,
+            m.goal,
+            &p(algo),
+            &mut ws,
+            PlanOptions::default(),
+        )
+        .unwrap();
+        assert_eq!(
+            (r.length, r.evaluations),
+            (again.length, again.evaluations),
+            "{algo:?}"
+        );
+        assert_eq!(&storage.path()[..], &out[..]);
+    }
+    // PSO is not in the HHO or GWO family.
+    assert_eq!(
+        storage.plan(
+            m.grid.view(),
+            m.start,
+            m.goal,
+            &p(AlgorithmKind::Pso),
+            PlanOptions::default()
+        ),
+        Err(PlanError::InvalidParameters)
+    );
+    // Another map (one more blocked cell) needs its own mesh.
+    let mut other = m.grid.clone();
+    let free = (0..1600)
+        .map(|i| other.view().cell(i))
+        .find(|c| other.view().is_free(*c) && *c != m.start && *c != m.goal);
+    let c = free.unwrap();
+    other.set_blocked(c.x as usize, c.y as usize, true).unwrap();
+    assert_eq!(
+        storage.plan(
+            other.view(),
+            m.start,
+            m.goal,
+            &p(AlgorithmKind::Tclhho),
+            PlanOptions::default()
+        ),
+        Err(PlanError::InvalidParameters)
+    );
+}
+
+/// Fewer stations than the optimizer's dimension would cap the plan silently: refused.
+#[test]
+fn fewer_stations_than_dimensions_is_a_capacity_error() {
+    let m = seed000::<{ words_for(40, 40) }>(MapKind::Warehouse, 40).unwrap();
+    let mut sc = Scratch::new();
+    let mut stations = [Station::EMPTY; 63];
+    let mut out: Path<1600> = Path::new();
+    let mut optimizer = Box::new(HhoOrGwo::<30, 64>::unconfigured());
+    let mut ws = sc.workspace(&m.grid, &mut stations, &mut *optimizer, &mut out);
+    let p = PlanParams::new(AlgorithmKind::Tclhho);
+    assert_eq!(
+        plan(
+            m.grid.view(),
+            m.start,
+            m.goal,
+            &p,
+            &mut ws,
+            PlanOptions::default()
+        ),
+        Err(PlanError::CapacityExceeded)
+    );
 }

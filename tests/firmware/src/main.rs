@@ -17,24 +17,24 @@ use cortex_m_semihosting::{debug, hprintln};
 use panic_semihosting as _;
 
 mod scenario;
-use scenario::{AnyAngleState, CASES, Nodes, Outcome, Storage};
+use scenario::{CASES, Nodes, Outcome, Site, Storage};
 
-/// All planner state lives in statics (the linker checks them against the RAM budget).
-/// The search scratch is all-zero: `.bss`. The plans use the any-angle state, then the DWA
-/// loop's route the A* state, in the same memory.
-static mut SEARCH: Search = Search {
-    anyangle: ManuallyDrop::new(AnyAngleState::new()),
+/// All planner state lives in statics (the linker checks them against the RAM budget), all
+/// zero bytes: `.bss`. The plans use the plan storage, then the DWA loop's route the A*
+/// state, in the same memory.
+static mut PLANNER: Planner = Planner {
+    plan: ManuallyDrop::new(Storage::new()),
 };
 
 /// Memory shared by the two phases. Every field is valid as all-zero bytes (integers,
 /// floats, enums whose first variant is 0), which is how each phase finds it.
 #[repr(C)]
-union Search {
-    anyangle: ManuallyDrop<AnyAngleState>,
+union Planner {
+    plan: ManuallyDrop<Storage>,
     astar: ManuallyDrop<Nodes>,
 }
-/// Map, paths, stations and the optimizer.
-static mut STORAGE: Storage = Storage::new();
+/// The map, its start and goal.
+static mut SITE: Site = Site::new();
 
 /// SysTick wraps (the counter is 24 bits).
 static WRAPS: AtomicU32 = AtomicU32::new(0);
@@ -119,12 +119,12 @@ fn main() -> ! {
     // monotonic from the start.
     while SYST::get_current() == 0 {}
 
-    // SAFETY: the only reference to STORAGE, taken once before any interrupt could use it
+    // SAFETY: the only reference to SITE, taken once before any interrupt could use it
     // (the SysTick handler does not touch it).
-    let s: &mut Storage = unsafe { &mut *addr_of_mut!(STORAGE) };
-    // SAFETY: the only reference to SEARCH while the plans run; SEARCH starts as the
-    // any-angle state, all zero bytes.
-    let aa: &mut AnyAngleState = unsafe { &mut (*addr_of_mut!(SEARCH)).anyangle };
+    let s: &mut Site = unsafe { &mut *addr_of_mut!(SITE) };
+    // SAFETY: the only reference to PLANNER while the plans run; PLANNER starts as the plan
+    // storage, all zero bytes.
+    let storage: &mut Storage = unsafe { &mut (*addr_of_mut!(PLANNER)).plan };
     let mut digests = [0u64; CASES.len() + 3];
     let mut count = 0;
     let mut ok = true;
@@ -137,7 +137,7 @@ fn main() -> ! {
             }
             loaded = case.side;
             let t0 = ticks();
-            let o = scenario::prepare(s, aa);
+            let o = scenario::prepare(s, storage);
             let t = ticks() - t0;
             print(if loaded == 40 { "mesh-40" } else { "mesh-64" }, &o, t);
             ok &= o.status == 0;
@@ -145,20 +145,22 @@ fn main() -> ! {
             count += 1;
         }
         let t0 = ticks();
-        let o = scenario::run_case(s, aa, i);
+        let o = scenario::run_case(s, storage, i);
         let t = ticks() - t0;
         print(case.name, &o, t);
         ok &= o.status == 0 && o.valid == 1;
         digests[count] = o.digest;
         count += 1;
     }
-    // SAFETY: the plans are done and `aa` is not used again; the A* state is valid as all
-    // zero bytes, written here over the any-angle state before the only reference to it is
+    #[cfg(feature = "optimizer-alone")]
+    optimizer_alone(storage);
+    // SAFETY: the plans are done and `storage` is not used again; the A* state is valid as
+    // all zero bytes, written here over the plan storage before the only reference to it is
     // taken.
     let nodes: &mut Nodes = unsafe {
-        let search = addr_of_mut!(SEARCH);
-        core::ptr::write_bytes(search as *mut u8, 0, core::mem::size_of::<Search>());
-        &mut (*search).astar
+        let memory = addr_of_mut!(PLANNER);
+        core::ptr::write_bytes(memory as *mut u8, 0, core::mem::size_of::<Planner>());
+        &mut (*memory).astar
     };
     let t0 = ticks();
     match scenario::dwa_control_loop(s, nodes) {
@@ -174,8 +176,6 @@ fn main() -> ! {
             ok = false;
         }
     }
-    #[cfg(feature = "optimizer-alone")]
-    optimizer_alone(s);
     hprintln!("stack_peak_bytes={}", peak_stack());
     hprintln!("digest={:#018x}", scenario::combine(&digests[..count]));
     debug::exit(if ok {
@@ -191,7 +191,7 @@ fn main() -> ! {
 /// Times each swarm optimizer of the scenario alone: the 40x40 plan's population, iterations,
 /// seed and dimension (9), on a shifted sphere (a few instructions per variable).
 #[cfg(feature = "optimizer-alone")]
-fn optimizer_alone(s: &mut Storage) {
+fn optimizer_alone(storage: &mut Storage) {
     use planner_core::optim::any::AlgorithmKind;
     use planner_core::optim::{Bounds, Optimizer, Settings};
     use planner_core::planner::PlanOptimizer;
@@ -207,16 +207,17 @@ fn optimizer_alone(s: &mut Storage) {
         };
         let mut sphere = |x: &[f32]| x.iter().map(|v| (v - 0.25) * (v - 0.25)).sum::<f32>();
         let t0 = ticks();
-        let ok = s.swarm.configure_kind(kind, settings, &bounds).is_ok()
-            && s.swarm.init(&mut sphere, None).is_ok()
-            && (0..500).all(|_| s.swarm.step(&mut sphere).is_ok());
+        let swarm = storage.optimizer_mut();
+        let ok = swarm.configure_kind(kind, settings, &bounds).is_ok()
+            && swarm.init(&mut sphere, None).is_ok()
+            && (0..500).all(|_| swarm.step(&mut sphere).is_ok());
         let t = ticks() - t0;
         hprintln!(
             "alone {:?} ok={} dimension={} evaluations={} instructions={}",
             kind,
             ok,
             DIM,
-            s.swarm.evaluations(),
+            swarm.evaluations(),
             t * 40
         );
     }

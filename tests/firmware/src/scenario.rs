@@ -4,11 +4,12 @@
 //!
 //! Plans: the exact any-angle planner, TCLHHO and IGWO (population 30, 500 iterations,
 //! corridor encoding on the any-angle guide, seed [`SEED`]) on seed 000's 40x40 warehouse
-//! and on a 64x64 warehouse, state in [`Storage`] (map, paths, optimizer) and
-//! [`AnyAngleState`] (the map's mesh, built by [`load`], and a query's scratch), both
-//! `static`s on the MCU, with capacity 64x64 cells, population 30, dimension 64. The DWA
-//! loop follows an A* route, with [`Nodes`] in the memory the any-angle state used (the
-//! MCU shares it; the phases never overlap).
+//! and on a 64x64 warehouse: the map in a [`Site`], everything a plan needs in one
+//! [`Storage`] (planner-core's `PlanStorage`: the map's mesh, built by [`prepare`], a query's
+//! scratch, the guide, stations, the optimizer and the path), both `static`s on the MCU,
+//! with capacity 64x64 cells, population 30, dimension 64. The DWA loop follows an A* route,
+//! with [`Nodes`] in the memory the plan storage used (the MCU shares it; the phases never
+//! overlap).
 //!
 //! Digest: FNV-1a (64 bit) over the little-endian bytes of, per case: the case index, the
 //! status (0 = ok, else 1 + the `PlanError` code), the path length, initial and final cost
@@ -16,17 +17,11 @@
 //! every waypoint's `x` and `y` bits. Only integers are printed (no float formatting).
 
 use planner_core::dwa::{Dwa, DwaConfig, DwaState, DynamicDisc, Mode, point_clearance};
-use planner_core::encoding::corridor::Station;
 use planner_core::geometry::Cell;
 use planner_core::grid::{Grid, words_for};
 use planner_core::maps::{MapKind, seed000};
-use planner_core::optim::any::AlgorithmKind;
-use planner_core::optim::gwo::Gwo;
-use planner_core::optim::hho::Hho;
-use planner_core::optim::{Bounds, Objective, OptimError, Optimizer, Settings};
 use planner_core::path::{self, Path};
-use planner_core::planner::{AnyAngleWorkspace, PlanOptimizer, PlanParams, Workspace, plan};
-use planner_core::search::anyangle::{self, MeshStorage, QueryStorage};
+use planner_core::planner::{AlgorithmKind, PlanOptions, PlanParams, PlanStorage};
 use planner_core::search::astar::{self, AStarNode, OpenSlot};
 use planner_core::{PlanError, Point};
 
@@ -63,38 +58,50 @@ pub const LINKS: usize = 272;
 /// mattered).
 pub const SEARCH_OPEN: usize = 300;
 
-/// The any-angle planner's state: the loaded map's mesh and a query's scratch (32 bytes a
-/// rectangle and a node). All-zero bytes, so a `static` of it is in `.bss`.
-pub struct AnyAngleState {
-    /// The mesh of the loaded map (built by [`load`]).
-    pub mesh: MeshStorage<RECTS, LINKS>,
-    /// Roots and open list.
-    pub query: QueryStorage<RECTS, SEARCH_OPEN>,
+/// Everything a plan of the scenario needs: the loaded map's mesh and a query's scratch, the
+/// guide route, stations, TCLHHO or IGWO state and the path. All-zero bytes, so a `static`
+/// of it is in `.bss`.
+pub type Storage = PlanStorage<POP, DIM, PATH_CAP, RECTS, LINKS, SEARCH_OPEN>;
+
+/// The loaded map, its start and goal.
+pub struct Site {
+    /// The current map (`None` until [`load`]: a `Some` placeholder would be the only
+    /// non-zero bytes of the firmware's `static`, which would then be copied from flash
+    /// instead of zeroed in `.bss`).
+    pub grid: Option<Grid<WORDS>>,
+    /// Start.
+    pub start: Cell,
+    /// Goal.
+    pub goal: Cell,
 }
 
-impl AnyAngleState {
-    /// Fresh state.
+impl Site {
+    /// No map yet, all zero bytes.
     pub const fn new() -> Self {
-        AnyAngleState {
-            mesh: MeshStorage::new(),
-            query: QueryStorage::new(),
+        Site {
+            grid: None,
+            start: Cell::new(0, 0),
+            goal: Cell::new(0, 0),
         }
     }
 }
 
-impl Default for AnyAngleState {
+impl Default for Site {
     fn default() -> Self {
         Self::new()
     }
 }
 
-/// A* search state for the DWA loop's route: a node per cell of the capacity (4 bytes) and
-/// [`OPEN`] open-list slots (12 bytes). All-zero bytes, so a `static` of it is in `.bss`.
+/// A* search state for the DWA loop's route: a node per cell of the capacity (4 bytes),
+/// [`OPEN`] open-list slots (12 bytes) and the route. All-zero bytes, so a `static` of it is
+/// in `.bss`.
 pub struct Nodes {
     /// One per cell.
     pub nodes: [AStarNode; CELLS],
     /// The open list.
     pub open: [OpenSlot; OPEN],
+    /// The A* route.
+    pub route: Path<PATH_CAP>,
 }
 
 impl Nodes {
@@ -103,125 +110,12 @@ impl Nodes {
         Nodes {
             nodes: [AStarNode::EMPTY; CELLS],
             open: [OpenSlot::EMPTY; OPEN],
+            route: Path::new(),
         }
     }
 }
 
 impl Default for Nodes {
-    fn default() -> Self {
-        Self::new()
-    }
-}
-
-/// The one optimizer state of the scenario: TCLHHO and IGWO never run at the same time, so
-/// they share the storage of the larger (`AnyOptimizer` would hold PSO's three times larger
-/// state). Switching family replaces the variant in place.
-#[allow(clippy::large_enum_variant)]
-pub enum Swarm {
-    /// HHO or TCLHHO.
-    Hho(Hho<POP, DIM>),
-    /// GWO, TGWO or IGWO.
-    Gwo(Gwo<POP, DIM>),
-}
-
-macro_rules! swarm {
-    ($self:ident, $o:ident => $e:expr) => {
-        match $self {
-            Swarm::Hho($o) => $e,
-            Swarm::Gwo($o) => $e,
-        }
-    };
-}
-
-impl Optimizer for Swarm {
-    fn init<O: Objective + ?Sized>(
-        &mut self,
-        objective: &mut O,
-        initial: Option<&[&[f32]]>,
-    ) -> Result<(), OptimError> {
-        swarm!(self, o => o.init(objective, initial))
-    }
-    fn step<O: Objective + ?Sized>(&mut self, objective: &mut O) -> Result<(), OptimError> {
-        swarm!(self, o => o.step(objective))
-    }
-    fn best_position(&self) -> &[f32] {
-        swarm!(self, o => o.best_position())
-    }
-    fn best_cost(&self) -> f32 {
-        swarm!(self, o => o.best_cost())
-    }
-    fn iteration(&self) -> u32 {
-        swarm!(self, o => o.iteration())
-    }
-    fn evaluations(&self) -> u64 {
-        swarm!(self, o => o.evaluations())
-    }
-    fn best_iteration(&self) -> u32 {
-        swarm!(self, o => o.best_iteration())
-    }
-    fn horizon(&self) -> u32 {
-        swarm!(self, o => o.horizon())
-    }
-}
-
-impl PlanOptimizer<POP, DIM> for Swarm {
-    fn configure_kind(
-        &mut self,
-        kind: AlgorithmKind,
-        settings: Settings,
-        bounds: &Bounds<DIM>,
-    ) -> Result<(), OptimError> {
-        // Assigned from constants: the value is copied from flash into place, where
-        // `Swarm::Gwo(Gwo::unconfigured())` built a 9 KiB temporary on the stack first.
-        const HHO: Swarm = Swarm::Hho(Hho::unconfigured());
-        const GWO: Swarm = Swarm::Gwo(Gwo::unconfigured());
-        let hho = matches!(kind, AlgorithmKind::Hho | AlgorithmKind::Tclhho);
-        match self {
-            Swarm::Hho(_) if !hho => *self = GWO,
-            Swarm::Gwo(_) if hho => *self = HHO,
-            _ => {}
-        }
-        swarm!(self, o => o.configure_kind(kind, settings, bounds))
-    }
-}
-
-/// The rest of the planner state, sized for the capacity above. `const fn new` so that it can
-/// be a `static` (built at link time, no large temporary on the stack).
-pub struct Storage {
-    /// The current map (`None` until [`load`]: a `Some` placeholder would be the only
-    /// non-zero bytes of the firmware's `static`, which would then be copied from an 18 KiB
-    /// flash image instead of zeroed in `.bss`).
-    pub grid: Option<Grid<WORDS>>,
-    /// Its start and goal.
-    pub start: Cell,
-    /// Goal.
-    pub goal: Cell,
-    /// Guide route of the corridor encoding.
-    pub guide: Path<PATH_CAP>,
-    /// The plan's result.
-    pub out: Path<PATH_CAP>,
-    /// Corridor stations.
-    pub stations: [Station; DIM],
-    /// TCLHHO or IGWO state.
-    pub swarm: Swarm,
-}
-
-impl Storage {
-    /// Empty storage (no map until [`load`] runs), all zero bytes.
-    pub const fn new() -> Self {
-        Storage {
-            grid: None,
-            start: Cell::new(0, 0),
-            goal: Cell::new(0, 0),
-            guide: Path::new(),
-            out: Path::new(),
-            stations: [Station::EMPTY; DIM],
-            swarm: Swarm::Hho(Hho::unconfigured()),
-        }
-    }
-}
-
-impl Default for Storage {
     fn default() -> Self {
         Self::new()
     }
@@ -340,7 +234,7 @@ impl Default for Fnv {
 /// 5 KiB of stack, which inlined into `main` stayed reserved through every plan (peak stack
 /// 8.4 KiB instead of 6.0 KiB).
 #[inline(never)]
-pub fn load(s: &mut Storage, side: usize) -> Result<(), PlanError> {
+pub fn load(s: &mut Site, side: usize) -> Result<(), PlanError> {
     let map =
         seed000::<WORDS>(MapKind::Warehouse, side).map_err(|_| PlanError::CapacityExceeded)?;
     s.grid = Some(map.grid);
@@ -352,12 +246,13 @@ pub fn load(s: &mut Storage, side: usize) -> Result<(), PlanError> {
 /// Builds the loaded map's any-angle mesh (once per map, timed on its own); the outcome's
 /// `iterations` and `waypoints` are the rectangles and links.
 #[inline(never)]
-pub fn prepare(s: &Storage, aa: &mut AnyAngleState) -> Outcome {
+pub fn prepare(s: &Site, storage: &mut Storage) -> Outcome {
     let mut o = Outcome::default();
     let mut h = Fnv::new();
     h.u32(0x3E5);
-    match s.grid.as_ref().map(|g| aa.mesh.build(g.view())) {
-        Some(Ok(mesh)) => {
+    match s.grid.as_ref().map(|g| storage.prepare(g.view())) {
+        Some(Ok(())) => {
+            let mesh = storage.mesh();
             o.iterations = mesh.rects() as u32;
             o.waypoints = mesh.links() as u32;
             o.valid = 1;
@@ -381,7 +276,7 @@ fn error_code(e: PlanError) -> u32 {
 
 /// Runs case `index` on the map currently loaded and prepared (see [`load`], [`prepare`]).
 #[inline(never)]
-pub fn run_case(s: &mut Storage, aa: &mut AnyAngleState, index: usize) -> Outcome {
+pub fn run_case(s: &Site, storage: &mut Storage, index: usize) -> Outcome {
     let case = CASES[index];
     let Some(grid) = s.grid.as_ref().map(Grid::view) else {
         return Outcome {
@@ -393,21 +288,18 @@ pub fn run_case(s: &mut Storage, aa: &mut AnyAngleState, index: usize) -> Outcom
     let mut o = Outcome::default();
     let mut h = Fnv::new();
     h.u32(index as u32);
-    let mesh = aa.mesh.mesh();
     let result = match case.planner {
-        Planner::AnyAngle => {
-            anyangle::plan(grid, &mesh, start, goal, aa.query.scratch(), &mut s.out).map(|st| {
-                o.iterations = st.expanded;
-                o.evaluations = st.pushed as u64;
-                (
-                    st.length,
-                    st.optimum,
-                    st.optimum,
-                    path::turns(&s.out) as u32,
-                    st.exact as u32,
-                )
-            })
-        }
+        Planner::AnyAngle => storage.anyangle(grid, start, goal).map(|st| {
+            o.iterations = st.expanded;
+            o.evaluations = st.pushed as u64;
+            (
+                st.length,
+                st.optimum,
+                st.optimum,
+                path::turns(storage.path()) as u32,
+                st.exact as u32,
+            )
+        }),
         Planner::Swarm(kind) => {
             // Stations half a cell off the corners the shortest route wraps: 42M instead of
             // 97M instructions for TCLHHO on the 40x40 map, 0.06% longer (see `guide_relax`).
@@ -416,30 +308,7 @@ pub fn run_case(s: &mut Storage, aa: &mut AnyAngleState, index: usize) -> Outcom
                 guide_relax: 0.5,
                 ..PlanParams::new(kind)
             };
-            // The any-angle guide needs no A* state, and the corridor encoding no walk
-            // bitset.
-            let mut ws = Workspace {
-                anyangle: Some(AnyAngleWorkspace {
-                    mesh,
-                    scratch: aa.query.scratch(),
-                }),
-                nodes: &mut [],
-                open: &mut [],
-                guide: &mut s.guide,
-                visited: &mut [],
-                stations: &mut s.stations,
-            };
-            let r = plan(
-                grid,
-                start,
-                goal,
-                &params,
-                &mut ws,
-                &mut s.swarm,
-                &mut s.out,
-                &mut [],
-                &mut || false,
-            );
+            let r = storage.plan(grid, start, goal, &params, PlanOptions::default());
             r.map(|r| {
                 o.evaluations = r.evaluations;
                 o.iterations = r.iterations;
@@ -457,8 +326,9 @@ pub fn run_case(s: &mut Storage, aa: &mut AnyAngleState, index: usize) -> Outcom
         Ok((length, initial, final_cost, turns, best_iteration)) => {
             o.length_bits = length.to_bits();
             o.length_milli = (length * 1000.0) as u32;
-            o.waypoints = s.out.len() as u32;
-            o.valid = path::validate(grid, &s.out, start, goal).is_ok() as u32;
+            let out = storage.path();
+            o.waypoints = out.len() as u32;
+            o.valid = path::validate(grid, out, start, goal).is_ok() as u32;
             h.u32(0);
             h.u32(length.to_bits());
             h.u32(initial.to_bits());
@@ -468,7 +338,7 @@ pub fn run_case(s: &mut Storage, aa: &mut AnyAngleState, index: usize) -> Outcom
             h.u32(o.iterations);
             h.u32(best_iteration);
             h.u32(o.waypoints);
-            for p in s.out.iter() {
+            for p in out.iter() {
                 let Point { x, y } = *p;
                 h.u32(x.to_bits());
                 h.u32(y.to_bits());
@@ -508,7 +378,7 @@ pub const DWA_STEPS: u32 = 400;
 /// `iterations` counts control steps, `evaluations` the window samples scored,
 /// `length_milli` the driven distance, `waypoints` the route's points.
 #[inline(never)]
-pub fn dwa_control_loop(s: &mut Storage, nodes: &mut Nodes) -> Option<Outcome> {
+pub fn dwa_control_loop(s: &Site, nodes: &mut Nodes) -> Option<Outcome> {
     let mut o = Outcome::default();
     let mut h = Fnv::new();
     h.u32(0xD3A);
@@ -520,15 +390,15 @@ pub fn dwa_control_loop(s: &mut Storage, nodes: &mut Nodes) -> Option<Outcome> {
         goal,
         &mut nodes.nodes,
         &mut nodes.open,
-        &mut s.out,
+        &mut nodes.route,
     )
     .ok()?;
     // The route: the A* path cut at DWA_ROUTE cells (a point on a clear segment).
     let mut route: Path<DWA_ROUTE_CAP> = Path::new();
     let mut walked = 0.0f32;
-    for (i, &p) in s.out.iter().enumerate() {
+    for (i, &p) in nodes.route.iter().enumerate() {
         if i > 0 {
-            let prev = s.out[i - 1];
+            let prev = nodes.route[i - 1];
             let seg = prev.distance(p);
             if walked + seg >= DWA_ROUTE {
                 let t = (DWA_ROUTE - walked) / seg;
