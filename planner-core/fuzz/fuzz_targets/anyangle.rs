@@ -1,6 +1,7 @@
 //! The exact any-angle planner on an arbitrary small map with storage of arbitrary (maybe
 //! too small) size: never a panic; a path exactly when the endpoints are connected, valid
-//! and never longer than Theta*'s; `CapacityExceeded` only when a buffer was short.
+//! and, when the search kept every node it needed (`exact`), never longer than Theta*'s;
+//! `CapacityExceeded` only when a buffer was short.
 #![no_main]
 
 mod common;
@@ -70,8 +71,13 @@ fuzz_target!(|input: Input| {
             let mut nodes = [SearchNode::EMPTY; 576];
             let mut theta_path: Path<600> = Path::new();
             let t = theta::plan(view, start, goal, &mut nodes, &mut theta_path).expect("connected");
-            assert!(stats.optimum <= t.length + 1e-4, "{} > {}", stats.optimum, t.length);
-            assert!(stats.length <= t.length + 2e-3, "{} > {}", stats.length, t.length);
+            if stats.exact {
+                assert!(stats.optimum <= t.length + 1e-4, "{} > {}", stats.optimum, t.length);
+                assert!(stats.length <= t.length + 2e-3, "{} > {}", stats.length, t.length);
+            } else {
+                // Only an open list too short to keep every node can cost exactness.
+                assert!(input.open != 0, "inexact with an open list of 4096");
+            }
         }
         Err(PlanError::NoValidPath) => assert!(!connected, "no path between connected cells"),
         Err(PlanError::CapacityExceeded) => {
