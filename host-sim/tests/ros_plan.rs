@@ -118,6 +118,7 @@ fn printed_paths_on_ros_maps_validate_when_read_back() {
             total += c.paths;
         }
     }
+    eprintln!("{total} printed plan paths validated when read back");
     assert!(total >= 200, "{total} paths checked");
 }
 
