@@ -802,18 +802,13 @@ impl Figure for Scene<'_> {
 
     fn raster(&self) -> Option<Raster> {
         match self.parts.background {
-            Background::Occupancy(grid) if self.occupancy_as_pixels() => {
-                Some(match self.parts.unknown {
-                    Some(unknown) => Raster::occupancy_with_unknown(
-                        grid,
-                        unknown,
-                        self.block,
-                        (self.map_x, self.map_y),
-                        (BLOCKED, UNKNOWN_SPACE),
-                    ),
-                    None => Raster::occupancy(grid, self.block, (self.map_x, self.map_y), BLOCKED),
-                })
-            }
+            Background::Occupancy(grid) if self.occupancy_as_pixels() => Some(Raster::occupancy(
+                grid,
+                self.parts.unknown.map(|u| (u, UNKNOWN_SPACE)),
+                self.block,
+                (self.map_x, self.map_y),
+                BLOCKED,
+            )),
             _ => None,
         }
     }

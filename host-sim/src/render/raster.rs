@@ -29,43 +29,15 @@ impl Raster {
     /// `grid` at one pixel per `block x block` cells (the last row and column of blocks may
     /// hold fewer cells): white mixed with `blocked` by the share of blocked cells in the
     /// block, so white only where all are free and `blocked` only where all are blocked.
-    pub fn occupancy(grid: GridRef<'_>, block: usize, at: (i32, i32), blocked: Rgb) -> Raster {
-        let block = block.max(1);
-        let (w, h) = (grid.width(), grid.height());
-        let (bw, bh) = (w.div_ceil(block), h.div_ceil(block));
-        let mut rgb = vec![255u8; bw * bh * 3];
-        for by in 0..bh {
-            let (y0, y1) = (by * block, ((by + 1) * block).min(h) - 1);
-            for bx in 0..bw {
-                let (x0, x1) = (bx * block, ((bx + 1) * block).min(w) - 1);
-                let count: u32 = (y0..=y1)
-                    .map(|y| grid.row_run_count(y as isize, x0 as isize, x1 as isize))
-                    .sum();
-                if count > 0 {
-                    let cells = ((y1 - y0 + 1) * (x1 - x0 + 1)) as u32;
-                    let i = (by * bw + bx) * 3;
-                    rgb[i..i + 3].copy_from_slice(&shade(blocked, count, cells));
-                }
-            }
-        }
-        Raster {
-            x: at.0,
-            y: at.1,
-            width: bw as u32,
-            height: bh as u32,
-            rgb,
-        }
-    }
-
-    /// [`occupancy`](Self::occupancy) with unknown space in its own colour: a block with
-    /// occupied cells (blocked, not unknown) is shaded by their share in `blocked`, one with
-    /// only unknown (and free) cells by the unknown share in `unknown_rgb`.
-    pub fn occupancy_with_unknown(
+    /// With `unknown` (cells of unknown space, `unknown_rgb`), a block with occupied cells
+    /// (blocked, not unknown) is shaded by their share in `blocked`, one with only unknown and
+    /// free cells by the unknown share in `unknown_rgb`.
+    pub fn occupancy(
         grid: GridRef<'_>,
-        unknown: GridRef<'_>,
+        unknown: Option<(GridRef<'_>, Rgb)>,
         block: usize,
         at: (i32, i32),
-        (blocked, unknown_rgb): (Rgb, Rgb),
+        blocked: Rgb,
     ) -> Raster {
         let block = block.max(1);
         let (w, h) = (grid.width(), grid.height());
@@ -75,23 +47,36 @@ impl Raster {
             let (y0, y1) = (by * block, ((by + 1) * block).min(h) - 1);
             for bx in 0..bw {
                 let (x0, x1) = (bx * block, ((bx + 1) * block).min(w) - 1);
-                let (mut occupied, mut unknowns) = (0u32, 0u32);
-                for y in y0..=y1 {
-                    for x in x0..=x1 {
-                        let (x, y) = (x as isize, y as isize);
-                        if unknown.is_blocked(x, y) {
-                            unknowns += 1;
-                        } else if grid.is_blocked(x, y) {
-                            occupied += 1;
+                let cells = ((y1 - y0 + 1) * (x1 - x0 + 1)) as u32;
+                let rows = y0 as isize..=y1 as isize;
+                let (x0, x1) = (x0 as isize, x1 as isize);
+                // (colour, count) of the block's shade, if any.
+                let shade_of = match unknown {
+                    None => {
+                        let count = rows.map(|y| grid.row_run_count(y, x0, x1)).sum();
+                        (blocked, count)
+                    }
+                    Some((unknown, unknown_rgb)) => {
+                        let (mut occupied, mut unknowns) = (0u32, 0u32);
+                        for y in rows {
+                            for x in x0..=x1 {
+                                if unknown.is_blocked(x, y) {
+                                    unknowns += 1;
+                                } else if grid.is_blocked(x, y) {
+                                    occupied += 1;
+                                }
+                            }
+                        }
+                        if occupied > 0 {
+                            (blocked, occupied)
+                        } else {
+                            (unknown_rgb, unknowns)
                         }
                     }
-                }
-                let cells = ((y1 - y0 + 1) * (x1 - x0 + 1)) as u32;
-                let i = (by * bw + bx) * 3;
-                if occupied > 0 {
-                    rgb[i..i + 3].copy_from_slice(&shade(blocked, occupied, cells));
-                } else if unknowns > 0 {
-                    rgb[i..i + 3].copy_from_slice(&shade(unknown_rgb, unknowns, cells));
+                };
+                if shade_of.1 > 0 {
+                    let i = (by * bw + bx) * 3;
+                    rgb[i..i + 3].copy_from_slice(&shade(shade_of.0, shade_of.1, cells));
                 }
             }
         }
@@ -209,6 +194,25 @@ mod tests {
     }
 
     #[test]
+    fn unknown_space_has_its_own_shade_unless_occupied_cells_share_the_pixel() {
+        // 6 x 3 cells in blocks of 3: two pixels. Left: 2 unknown (blocked too) and 1
+        // occupied cell; right: 3 unknown cells only.
+        let (mut g, mut u) = (GridBuf::new(6, 3).unwrap(), GridBuf::new(6, 3).unwrap());
+        for (x, y) in [(0, 0), (1, 0), (3, 0), (4, 1), (5, 2)] {
+            g.set_blocked(x, y, true).unwrap();
+            u.set_blocked(x, y, true).unwrap();
+        }
+        g.set_blocked(2, 2, true).unwrap();
+        let (dark, grey) = ([0, 0, 0], [100, 100, 100]);
+        let r = Raster::occupancy(g.view(), Some((u.view(), grey)), 3, (0, 0), dark);
+        assert_eq!(&r.rgb[..3], &shade(dark, 1, 9));
+        assert_eq!(&r.rgb[3..], &shade(grey, 3, 9));
+        // Without the unknown layer both count as blocked.
+        let r = Raster::occupancy(g.view(), None, 3, (0, 0), dark);
+        assert_eq!(&r.rgb[..3], &shade(dark, 3, 9));
+    }
+
+    #[test]
     fn a_pixel_is_shaded_by_the_share_of_blocked_cells_under_it() {
         // 7 x 5 cells in blocks of 3: 3 x 2 pixels, the last column and row partial.
         let mut g = GridBuf::new(7, 5).unwrap();
@@ -217,7 +221,7 @@ mod tests {
             g.set_blocked(x, y, true).unwrap(); // pixel (0, 1): 6 of 6 (a partial block)
         }
         g.set_blocked(6, 4, true).unwrap(); // pixel (2, 1): 1 of 2 (a partial block)
-        let r = Raster::occupancy(g.view(), 3, (10, 20), [45, 45, 50]);
+        let r = Raster::occupancy(g.view(), None, 3, (10, 20), [45, 45, 50]);
         assert_eq!((r.width, r.height), (3, 2));
         let px: Vec<&[u8]> = r.rgb.chunks(3).collect();
         assert_eq!(px[0], [255, 255, 255]);
@@ -227,7 +231,7 @@ mod tests {
         assert_eq!(px[4], [255, 255, 255]);
         assert_eq!(px[5], [150, 150, 153]); // 255 - 210 / 2, 255 - 205 / 2
         // Cells outside the map (past the partial blocks) do not count as blocked.
-        let free = Raster::occupancy(GridBuf::new(7, 5).unwrap().view(), 3, (0, 0), [0; 3]);
+        let free = Raster::occupancy(GridBuf::new(7, 5).unwrap().view(), None, 3, (0, 0), [0; 3]);
         assert!(free.rgb.iter().all(|&v| v == 255));
         // A single blocked cell among many still leaves a mark.
         assert_ne!(shade([254, 254, 254], 1, 10_000), [255, 255, 255]);

@@ -23,7 +23,7 @@ use super::hho::{Hho, HhoParams};
 use super::pso::{Pso, PsoParams};
 use super::ssa::{Ssa, SsaParams};
 use super::ssa_gwo::{SsaGwo, SsaGwoParams};
-use super::{Bounds, Objective, OptimError, Optimizer, Settings};
+use super::{Bounds, OptimError, Settings};
 
 /// The algorithms, by their command-line names.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -175,53 +175,12 @@ impl<const N: usize, const D: usize> AnyOptimizer<N, D> {
     }
 }
 
-macro_rules! dispatch {
-    ($self:ident, $o:ident => $e:expr) => {
-        match $self {
-            AnyOptimizer::Hho($o) => $e,
-            AnyOptimizer::Gwo($o) => $e,
-            AnyOptimizer::Ssa($o) => $e,
-            AnyOptimizer::SsaGwo($o) => $e,
-            AnyOptimizer::Pso($o) => $e,
-            AnyOptimizer::Ga($o) => $e,
-        }
-    };
-}
-
-impl<const N: usize, const D: usize> Optimizer for AnyOptimizer<N, D> {
-    fn init<O: Objective + ?Sized>(
-        &mut self,
-        objective: &mut O,
-        initial: Option<&[&[f32]]>,
-    ) -> Result<(), OptimError> {
-        dispatch!(self, o => o.init(objective, initial))
-    }
-    fn step<O: Objective + ?Sized>(&mut self, objective: &mut O) -> Result<(), OptimError> {
-        dispatch!(self, o => o.step(objective))
-    }
-    fn best_position(&self) -> &[f32] {
-        dispatch!(self, o => o.best_position())
-    }
-    fn best_cost(&self) -> f32 {
-        dispatch!(self, o => o.best_cost())
-    }
-    fn iteration(&self) -> u32 {
-        dispatch!(self, o => o.iteration())
-    }
-    fn evaluations(&self) -> u64 {
-        dispatch!(self, o => o.evaluations())
-    }
-    fn best_iteration(&self) -> u32 {
-        dispatch!(self, o => o.best_iteration())
-    }
-    fn horizon(&self) -> u32 {
-        dispatch!(self, o => o.horizon())
-    }
-}
+forward_optimizer!(AnyOptimizer: Hho, Gwo, Ssa, SsaGwo, Pso, Ga);
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::optim::Optimizer;
 
     #[test]
     fn names_round_trip() {
@@ -314,6 +273,7 @@ mod statistics {
     use std::vec::Vec;
 
     use super::*;
+    use crate::optim::Optimizer;
     use crate::optim::Stop;
     use crate::optim::functions::{Benchmark, FunctionKind, TABLE_1};
 

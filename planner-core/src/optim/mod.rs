@@ -40,6 +40,47 @@
 //! # Ok::<(), planner_core::optim::OptimError>(())
 //! ```
 
+/// Writes [`Optimizer`] for an enum of optimizers `Enum<N, D>` whose variants each hold one:
+/// every method forwards to the variant's.
+macro_rules! forward_optimizer {
+    ($enum:ident: $($variant:ident),+) => {
+        impl<const N: usize, const D: usize> $crate::optim::Optimizer for $enum<N, D> {
+            fn init<O: $crate::optim::Objective + ?Sized>(
+                &mut self,
+                objective: &mut O,
+                initial: Option<&[&[f32]]>,
+            ) -> Result<(), $crate::optim::OptimError> {
+                match self { $($enum::$variant(o) => o.init(objective, initial),)+ }
+            }
+            fn step<O: $crate::optim::Objective + ?Sized>(
+                &mut self,
+                objective: &mut O,
+            ) -> Result<(), $crate::optim::OptimError> {
+                match self { $($enum::$variant(o) => o.step(objective),)+ }
+            }
+            fn best_position(&self) -> &[f32] {
+                match self { $($enum::$variant(o) => o.best_position(),)+ }
+            }
+            fn best_cost(&self) -> f32 {
+                match self { $($enum::$variant(o) => o.best_cost(),)+ }
+            }
+            fn iteration(&self) -> u32 {
+                match self { $($enum::$variant(o) => o.iteration(),)+ }
+            }
+            fn evaluations(&self) -> u64 {
+                match self { $($enum::$variant(o) => o.evaluations(),)+ }
+            }
+            fn best_iteration(&self) -> u32 {
+                match self { $($enum::$variant(o) => o.best_iteration(),)+ }
+            }
+            fn horizon(&self) -> u32 {
+                match self { $($enum::$variant(o) => o.horizon(),)+ }
+            }
+        }
+    };
+}
+pub(crate) use forward_optimizer;
+
 pub mod any;
 pub mod functions;
 pub mod ga;

@@ -5,7 +5,7 @@
 use crate::optim::any::{AlgorithmKind, AnyOptimizer};
 use crate::optim::gwo::{Gwo, GwoParams};
 use crate::optim::hho::{Hho, HhoParams};
-use crate::optim::{Bounds, Objective, OptimError, Optimizer, Settings};
+use crate::optim::{Bounds, OptimError, Optimizer, Settings};
 
 /// The optimizer storage [`plan`](super::plan) runs: it configures the algorithm in place, so firmware can
 /// keep the whole optimizer state in a `static` (no large temporary on the stack).
@@ -97,45 +97,7 @@ impl<const N: usize, const D: usize> Default for HhoOrGwo<N, D> {
     }
 }
 
-macro_rules! family {
-    ($self:ident, $o:ident => $e:expr) => {
-        match $self {
-            HhoOrGwo::Hho($o) => $e,
-            HhoOrGwo::Gwo($o) => $e,
-        }
-    };
-}
-
-impl<const N: usize, const D: usize> Optimizer for HhoOrGwo<N, D> {
-    fn init<O: Objective + ?Sized>(
-        &mut self,
-        objective: &mut O,
-        initial: Option<&[&[f32]]>,
-    ) -> Result<(), OptimError> {
-        family!(self, o => o.init(objective, initial))
-    }
-    fn step<O: Objective + ?Sized>(&mut self, objective: &mut O) -> Result<(), OptimError> {
-        family!(self, o => o.step(objective))
-    }
-    fn best_position(&self) -> &[f32] {
-        family!(self, o => o.best_position())
-    }
-    fn best_cost(&self) -> f32 {
-        family!(self, o => o.best_cost())
-    }
-    fn iteration(&self) -> u32 {
-        family!(self, o => o.iteration())
-    }
-    fn evaluations(&self) -> u64 {
-        family!(self, o => o.evaluations())
-    }
-    fn best_iteration(&self) -> u32 {
-        family!(self, o => o.best_iteration())
-    }
-    fn horizon(&self) -> u32 {
-        family!(self, o => o.horizon())
-    }
-}
+crate::optim::forward_optimizer!(HhoOrGwo: Hho, Gwo);
 
 impl<const N: usize, const D: usize> PlanOptimizer<N, D> for HhoOrGwo<N, D> {
     fn configure_kind(
@@ -150,6 +112,9 @@ impl<const N: usize, const D: usize> PlanOptimizer<N, D> for HhoOrGwo<N, D> {
             HhoOrGwo::Gwo(_) if hho => *self = Self::HHO,
             _ => {}
         }
-        family!(self, o => o.configure_kind(kind, settings, bounds))
+        match self {
+            HhoOrGwo::Hho(o) => o.configure_kind(kind, settings, bounds),
+            HhoOrGwo::Gwo(o) => o.configure_kind(kind, settings, bounds),
+        }
     }
 }
