@@ -576,7 +576,7 @@ pub fn first_disagreement(
                 any |= *slot;
             }
             if any != 0 {
-                transpose32(&mut block);
+                planner_core::grid::transpose32(&mut block);
             }
             for (c, &want) in block.iter().enumerate().take(nc) {
                 let diff = (word(columns, (x0 + c) * h + y0) & low(nr)) ^ want;
@@ -587,24 +587,6 @@ pub fn first_disagreement(
         }
     }
     None
-}
-
-/// Transposes a 32 x 32 bit matrix in place: bit `c` of word `r` moves to bit `r` of word
-/// `c` (Hacker's Delight, 7-3).
-fn transpose32(m: &mut [u32; 32]) {
-    let mut j = 16;
-    let mut mask: u32 = 0x0000_FFFF;
-    while j != 0 {
-        let mut k = 0;
-        while k < 32 {
-            let t = ((m[k] >> j) ^ m[k + j]) & mask;
-            m[k] ^= t << j;
-            m[k + j] ^= t;
-            k = (k + j + 1) & !j;
-        }
-        j >>= 1;
-        mask ^= mask << j;
-    }
 }
 
 /// Writes `grid` into `out`, a grid of the same size (both layouts: whole rows of words,

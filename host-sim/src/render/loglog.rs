@@ -1,6 +1,6 @@
 //! Log-log plots of measured points: time against map size, one line per planner.
 
-use super::{Figure, Style, drawing_error, font, rgb, write_png, write_svg};
+use super::{Figure, Style, drawing_error, font, rgb, write_files};
 use plotters::coord::Shift;
 use plotters::element::{DashedPathElement, DynElement};
 use plotters::prelude::*;
@@ -34,13 +34,7 @@ pub fn loglog_plot(
         y_label,
         lines,
     };
-    if let Some(path) = png {
-        write_png(&plot, path)?;
-    }
-    if let Some(path) = svg {
-        write_svg(&plot, path)?;
-    }
-    Ok(())
+    write_files(&plot, png, svg)
 }
 
 struct LogLog<'s> {

@@ -232,6 +232,17 @@ fn create_file(path: &Path) -> anyhow::Result<BufWriter<File>> {
 }
 
 /// Renders `figure` into an RGB buffer and writes it as PNG.
+/// Writes `figure` as PNG and/or SVG, whichever paths are given.
+fn write_files(figure: &impl Figure, png: Option<&Path>, svg: Option<&Path>) -> anyhow::Result<()> {
+    if let Some(path) = png {
+        write_png(figure, path)?;
+    }
+    if let Some(path) = svg {
+        write_svg(figure, path)?;
+    }
+    Ok(())
+}
+
 fn write_png(figure: &impl Figure, path: &Path) -> anyhow::Result<()> {
     ensure_font()?;
     let (w, h) = figure.size();

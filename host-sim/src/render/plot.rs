@@ -1,6 +1,6 @@
 //! Line plots of per-iteration values: convergence curves like the papers' figures.
 
-use super::{Figure, Style, drawing_error, font, rgb, write_png, write_svg};
+use super::{Figure, Style, drawing_error, font, rgb, write_files};
 use plotters::coord::Shift;
 use plotters::element::{DashedPathElement, DynElement};
 use plotters::prelude::*;
@@ -54,13 +54,7 @@ pub fn convergence_plot(
         y_label,
         series,
     };
-    if let Some(path) = png {
-        write_png(&plot, path)?;
-    }
-    if let Some(path) = svg {
-        write_svg(&plot, path)?;
-    }
-    Ok(())
+    write_files(&plot, png, svg)
 }
 
 struct Plot<'s> {

@@ -300,8 +300,9 @@ fn write_bits(bits: &mut [u32], start: usize, value: u32, n: usize) {
 }
 
 /// Transposes a 32 x 32 bit matrix in place: bit `c` of word `r` moves to bit `r` of word
-/// `c` (Hacker's Delight, 7-3).
-fn transpose32(m: &mut [u32; 32]) {
+/// `c` (Hacker's Delight, 7-3). Public for packers of the grid's column-major words (the
+/// planner service's map frames).
+pub fn transpose32(m: &mut [u32; 32]) {
     let mut j = 16;
     let mut mask: u32 = 0x0000_FFFF;
     while j != 0 {
