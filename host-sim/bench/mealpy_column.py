@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Seed 000's column-encoding objective in Python, for timing mealpy against our planners.
+"""The column-encoding objective of Lei2024Warehouse (docs/references.md) in Python, for timing mealpy against our planners.
 
 The objective is the one `host-sim plan --encoding column` optimises
 (`planner-core/src/encoding/column.rs`), re-implemented exactly:

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Seed 000's column encoding on our 40x40 seed warehouse map, start (0,0), goal (39,39):
+# `Lei2024Warehouse`'s column encoding on its 40x40 warehouse map (`host-sim maps`), start (0,0), goal (39,39):
 # our HHO and TCLHHO (`host-sim plan --encoding column --no-prune`, release build) against
 # mealpy's OriginalHHO on the identical objective written in Python
 # (host-sim/bench/mealpy_column.py), population 30, 500 iterations, RUNS runs each (default
@@ -62,7 +62,7 @@ def ours(a):
 d = json.load(open(f"{out}/mealpy_hho.json"))["runs"]
 ok = [r for r in d if r["success"]]
 ref = (med([r["time_s"] for r in d]), med([r["length"] for r in ok]), len(ok), len(d))
-print(f"seed-000 column encoding, seed000-warehouse-40.map (0,0) -> (39,39), D = 40, pop 30, "
+print(f"Lei2024Warehouse column encoding, seed000-warehouse-40.map (0,0) -> (39,39), D = 40, pop 30, "
       f"500 iterations, {runs} runs; mealpy {version}")
 print(f"{'algorithm':<22}{'median time/run':>17}{'median best length':>20}{'success':>10}{'speed-up':>12}")
 for name, (t, l, s, n) in [("ours HHO", ours("hho")), ("ours TCLHHO", ours("tclhho")),

@@ -5,7 +5,7 @@
 //! |---|---|
 //! | 0 | done: every mission arrived (simulator), every query answered (`plan`) |
 //! | 1 | anything else went wrong (an output file, the planner service, a bug) |
-//! | 2 | bad input: a map, start, goal, query file or option that cannot be used ([`BadInput`], a [`MapLoadError`](crate::mapsrc::MapLoadError), or a command-line error) |
+//! | 2 | bad input: a map, start, goal, query file or option that cannot be used ([`BadInput`], a [`MapLoadError`](planner_mapfile::MapLoadError), or a command-line error) |
 //! | 3 | a mission did not arrive, collided, or a scenario or soak missed its target ([`MissionFailed`]) |
 
 use std::fmt;
@@ -49,7 +49,7 @@ pub fn status(e: &anyhow::Error) -> u8 {
     let is = |f: &dyn Fn(&(dyn std::error::Error + 'static)) -> bool| e.chain().any(f);
     if is(&|c| c.is::<MissionFailed>()) {
         MISSION_FAILED
-    } else if is(&|c| c.is::<BadInput>() || c.is::<crate::mapsrc::MapLoadError>()) {
+    } else if is(&|c| c.is::<BadInput>() || c.is::<planner_mapfile::MapLoadError>()) {
         BAD_INPUT
     } else {
         1
@@ -66,7 +66,7 @@ mod tests {
         assert_eq!(status(&bad("no")), BAD_INPUT);
         let wrapped = Err::<(), _>(bad("inner")).context("outer").unwrap_err();
         assert_eq!(status(&wrapped), BAD_INPUT);
-        let map = crate::mapsrc::load_map(
+        let map = planner_mapfile::load_map(
             std::path::Path::new("/nonexistent/m.map"),
             &Default::default(),
         )

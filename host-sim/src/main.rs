@@ -5,8 +5,9 @@
 //! - `plan`: plan queries on a map file and print one JSON object a line;
 //! - `optimize`: run a swarm optimizer on benchmark functions (JSON statistics);
 //! - `bench paper|movingai|speed`: the papers' tables, quality and speed benchmarks;
-//! - `maps`: write the seed-style maps as `.map` files.
-//! - `terrain`: 3D terrain planning, seed 001's experiments 1-3 (tables 2-7) and a benchmark.
+//! - `maps`: write the papers' built-in maps (`planner_core::maps`) as `.map` files;
+//! - `terrain`: 3D terrain planning, `Zhu2025Orchard`'s experiments 1-3 (tables 2-7) and a
+//!   benchmark;
 //! - `serve` (hidden): the planner service over iceoryx2, started by `--planner ipc`;
 //! - `render-demo` (hidden): write example pictures (see `render`) into `target/render-demo/`.
 
@@ -18,8 +19,8 @@ mod cmd;
 #[global_allocator]
 static ALLOCATOR: host_sim::heap::Counting = host_sim::heap::Counting;
 
-// The library's modules, bound at the crate root so `crate::maps` etc. resolve in `cmd`.
-use host_sim::{exit, mapsrc, printed, render, sim, validate};
+// The library's modules, bound at the crate root so `crate::sim` etc. resolve in `cmd`.
+use host_sim::{exit, printed, render, sim, validate, warehouse_gen};
 
 #[derive(Parser)]
 #[command(
@@ -49,9 +50,11 @@ enum Command {
     Optimize(cmd::optimize::OptimizeArgs),
     /// Benchmarks: the papers' tables, Moving AI quality, speed.
     Bench(cmd::bench::BenchArgs),
-    /// Write the seed-style maps of the papers as Moving AI `.map` files.
+    /// Write the papers' maps (Lei2024Warehouse's sparse and warehouse maps, Liu2020Igwo's
+    /// lab) as Moving AI `.map` files.
     Maps(cmd::maps::MapsArgs),
-    /// 3D terrain planning (seed 001): experiments 1-3 (tables 2-7), pictures, benchmark.
+    /// 3D terrain planning (Zhu2025Orchard, SSA-GWO): experiments 1-3 (tables 2-7), pictures,
+    /// benchmark.
     Terrain(cmd::terrain::TerrainArgs),
     /// Write example pictures (maps, terrain, convergence) to look at the renderer.
     #[command(hide = true)]

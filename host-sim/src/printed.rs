@@ -8,9 +8,9 @@
 //! with a world frame) is turned back into cells in `f64` and must do the same, its ends
 //! within 1e-9 cell of the centres (the conversion's rounding).
 
-use crate::mapsrc::MapFrame;
 use crate::validate::{Invalid, check_f64, check_segments};
 use planner_core::grid::GridRef;
+use planner_mapfile::MapFrame;
 use serde_json::Value;
 
 /// The waypoints of `key` (`path` or `path_m`) as numbers read back, if the line has them.

@@ -1,6 +1,6 @@
-//! An independent checker for 3D terrain paths (seed 001, SPEC section 4): `f64` arithmetic,
-//! its own bilinear surface and its own obstacle shapes, written without planner-core's
-//! terrain code, so a bug in the planner's geometry cannot hide itself.
+//! An independent checker for 3D terrain paths (`Zhu2025Orchard`, SPEC section 4): `f64`
+//! arithmetic, its own bilinear surface and its own obstacle shapes, written without
+//! planner-core's terrain code, so a bug in the planner's geometry cannot hide itself.
 //!
 //! What "valid" means (SPEC section 4: a ground robot's height follows the terrain):
 //! - the path runs from the start to the goal (horizontally);
@@ -19,7 +19,7 @@
 //!   above the top / tip).
 //!
 //! The sampling misses an intrusion of depth below `step^2 / (8 radius)` at most; the default
-//! step of 2.5 m makes that below a millimetre for the 1 km obstacles of seed 001.
+//! step of 2.5 m makes that below a millimetre for the 1 km obstacles of `Zhu2025Orchard`.
 
 /// A heightmap: `w x h` samples `z` (row by row) with spacing `spacing`.
 #[derive(Debug, Clone, Copy)]

@@ -2,10 +2,10 @@
 //! of the same generated warehouse, `run` on a generated one (simulator and downsampled
 //! pictures), and the `--max-cells` limit.
 
-use host_sim::mapsrc::warehouse::{WarehouseParams, generate};
-use host_sim::mapsrc::{DEFAULT_MAX_CELLS, MapOptions};
+use host_sim::warehouse_gen::{WarehouseParams, generate};
 use planner_core::geometry::Cell;
 use planner_core::grid::{GridBuf, GridRef};
+use planner_mapfile::{DEFAULT_MAX_CELLS, MapOptions};
 use serde_json::Value;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};

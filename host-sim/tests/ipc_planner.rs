@@ -4,7 +4,7 @@
 
 use host_sim::sim::ipc::IpcPlanner;
 use host_sim::sim::mission::{self, Outcome};
-use host_sim::sim::planner::{GlobalPlanner, InProcess, PlanFailure, PlanRequest};
+use host_sim::sim::planner::{GlobalPlanRequest, GlobalPlanner, InProcess, PlanFailure};
 use host_sim::sim::scenarios::{self, mission_params};
 use planner_core::geometry::Cell;
 use planner_core::planner::PlannerKind;
@@ -28,7 +28,7 @@ fn plans_over_ipc_match_in_process_and_walls_are_unreachable() {
     let tclhho: PlannerKind = "tclhho".parse().unwrap();
     for algo in [PlannerKind::AStar, PlannerKind::Theta, tclhho] {
         let spec = aisle.mission(algo, 3).unwrap();
-        let request = PlanRequest {
+        let request = GlobalPlanRequest {
             start: Cell::new(3, 9),
             goal: spec.goal,
             algo,
@@ -46,7 +46,7 @@ fn plans_over_ipc_match_in_process_and_walls_are_unreachable() {
     }
     let spec = walled.mission(tclhho, 1).unwrap();
     ipc.set_map(spec.grid.view()).unwrap();
-    let r = ipc.plan(&PlanRequest {
+    let r = ipc.plan(&GlobalPlanRequest {
         start: Cell::new(1, 1),
         goal: spec.goal,
         algo: tclhho,

@@ -3,10 +3,10 @@
 //! inflated as the planner inflated it, in cells and in metres; the default robot is 0.25 m;
 //! a corrupted line is refused by the same check (the check can fail).
 
-use host_sim::mapsrc::{MapOptions, load_map};
 use host_sim::printed::check_line;
 use planner_core::geometry::Cell;
 use planner_core::grid::{GridBuf, GridRef};
+use planner_mapfile::{MapOptions, load_map};
 use rand_core::{Rng, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
 use serde_json::Value;

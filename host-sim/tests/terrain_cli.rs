@@ -106,7 +106,7 @@ fn check_all(doc: &Value, heights: Heights) -> Vec<(String, usize, usize)> {
         + f(&e["b"]) * f(&e["acc"]).powi(2)
         + f(&e["c"]) * f(&e["mu"])
         + f(&e["d"]) * f(&e["load"]);
-    assert!((per_km - 6.5).abs() < 1e-6, "seed 001's E = 6.5 L");
+    assert!((per_km - 6.5).abs() < 1e-6, "Zhu2025Orchard: E = 6.5 L");
     let mut counts: Vec<(String, usize, usize)> = Vec::new();
     for run in doc["results"].as_array().unwrap() {
         let name = run["algorithm"].as_str().unwrap().to_string();

@@ -1,4 +1,4 @@
-//! Debug tool: evaluates seed 000's column-encoding objective (the one `host-sim plan
+//! Debug tool: evaluates `Lei2024Warehouse`'s column-encoding objective (the one `host-sim plan
 //! --encoding column` optimises) on vectors read from standard input, for cross-checking
 //! other implementations (`host-sim/bench/mealpy_column.py --validate`).
 //!

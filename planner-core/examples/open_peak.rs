@@ -4,9 +4,9 @@
 //! cargo run --release -p planner-core --example open_peak
 //! ```
 //! Prints, per Moving AI map in `tests/data/movingai` (every row of its scenario files) and
-//! for seed 000's warehouses, the largest open list, the mean, and the map's cell count.
+//! for `Lei2024Warehouse`'s warehouses, the largest open list, the mean, and the map's cell count.
 use planner_core::grid::{Grid, words_for};
-use planner_core::maps::{MapKind, seed000};
+use planner_core::maps::{MapKind, lei2024_warehouse};
 use planner_core::path::Path;
 use planner_core::search::astar::{self, AStarNode, OpenSlot, open_capacity};
 
@@ -56,7 +56,7 @@ fn main() {
         );
     }
     for side in [40, 64] {
-        let m = seed000::<{ words_for(64, 64) }>(MapKind::Warehouse, side).unwrap();
+        let m = lei2024_warehouse::<{ words_for(64, 64) }>(MapKind::Warehouse, side).unwrap();
         let g = m.grid.view();
         let mut nodes = vec![AStarNode::EMPTY; g.cells()];
         let mut open = vec![OpenSlot::EMPTY; open_capacity(g.cells())];
@@ -73,7 +73,7 @@ fn main() {
             }
         }
         println!(
-            "seed 000 warehouse {side}x{side}: start->goal open peak {}, start->any free cell max {worst}",
+            "Lei2024Warehouse warehouse {side}x{side}: start->goal open peak {}, start->any free cell max {worst}",
             st.open_peak
         );
     }

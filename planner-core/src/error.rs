@@ -8,6 +8,7 @@ use core::fmt;
 
 /// Why a planner returned no path.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum PlanError {
     /// The start cell lies outside the map.
@@ -76,6 +77,7 @@ impl core::error::Error for PlanError {}
 
 /// Why a Moving AI `.map` text was rejected. Lines and rows are 1-based as in an editor.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum MapError {
     /// A header line is missing, misspelt or has a malformed number.
@@ -160,6 +162,7 @@ impl core::error::Error for MapError {}
 
 /// Why a grid could not be built, edited or inflated.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum GridError {
     /// Width or height is zero, or the cell count exceeds the capacity.

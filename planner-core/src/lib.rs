@@ -36,10 +36,32 @@
 //! - [`encoding`]: how a decision vector becomes a path (corridor, column, walk);
 //! - [`planner`]: one planning API over every optimizer and encoding ([`planner::plan`],
 //!   [`planner::PlanStorage`]), and the ant colony baseline;
-//! - [`dwa`]: the Dynamic Window Approach local planner (seed 004);
-//! - [`terrain`]: 3D terrain planning (seed 001);
-//! - [`maps`]: the papers' maps; [`error`]: every error type.
+//! - [`dwa`]: the Dynamic Window Approach local planner (of the HHO+DWA patent,
+//!   `Hu2023HhoDwa`);
+//! - [`terrain`]: 3D terrain planning (of the SSA-GWO orchard paper, `Zhu2025Orchard`);
+//! - [`maps`]: the papers' maps (the TCLHHO warehouse paper's, `Lei2024Warehouse`, and the
+//!   IGWO grid paper's lab, `Liu2020Igwo`); [`error`]: every error type.
+//!
+//! Papers are named by the keys of `docs/references.md`, which gives each one's citation.
+//!
+//! # Features
+//!
+//! | feature | default | what |
+//! |---|---|---|
+//! | `terrain` | yes | [`terrain`], 3D terrain planning of `Zhu2025Orchard` |
+//! | `functions` | yes | [`optim::functions`], the optimizers' benchmark test functions |
+//! | `maps` | yes | [`maps`], the papers' maps, generated |
+//! | `blend` | yes | blended objectives ([`planner::Blend`]: length, turning, missing clearance) for the corridor encoding; without it only length is accepted and the code is not linked |
+//! | `defmt` | no | `defmt::Format` on the error types, [`Cell`], [`Point`] and the small report and stats structs ([`planner::PlanReport`], [`optim::Report`], [`search::SearchStats`], ...), for firmware logging |
+//! | `serde` | no | `Serialize` and `Deserialize` on the public data types |
+//! | `alloc` | no | heap-allocated scratch for hosts (`planner::owned`, `search::visibility`) |
+//! | `soft-sqrt` | no | the software square root (`libm`) on hard-float ARM instead of `VSQRT.F32` (same results) |
+//!
+//! Firmware takes `default-features = false` and names what it uses (the firmware proof in
+//! `tests/firmware` takes `maps`); everything else builds without any feature, for the host and
+//! for `thumbv7em-none-eabihf`.
 #![no_std]
+#![cfg_attr(docsrs, feature(doc_cfg))]
 #![deny(unsafe_code)]
 #![warn(missing_docs)]
 
@@ -54,11 +76,15 @@ pub mod math;
 pub mod optim;
 pub mod path;
 pub mod search;
+#[cfg(feature = "terrain")]
+#[cfg_attr(docsrs, doc(cfg(feature = "terrain")))]
 pub mod terrain;
 
 pub use error::{GridError, MapError, PlanError};
 pub use geometry::{Cell, Point};
 pub use grid::{Grid, GridRef, words_for};
 pub mod encoding;
+#[cfg(feature = "maps")]
+#[cfg_attr(docsrs, doc(cfg(feature = "maps")))]
 pub mod maps;
 pub mod planner;

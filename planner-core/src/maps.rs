@@ -1,20 +1,21 @@
-//! Seed-style maps, generated deterministically (the papers print theirs only as figures).
+//! The papers' maps, generated deterministically (the papers print theirs only as figures;
+//! the keys are those of `docs/references.md`). Behind the `maps` feature (on by default).
 //!
-//! - Seed 000: `size x size` maps for `size` in 10, 30, 40, start at the top-left cell and goal
+//! - The TCLHHO warehouse paper (`Lei2024Warehouse`), [`lei2024_warehouse`]: `size x size` maps for `size` in 10, 30, 40, start at the top-left cell and goal
 //!   at the bottom-right cell, in two kinds: [`MapKind::Sparse`] ("discrete": scattered small
 //!   obstacles) and [`MapKind::Warehouse`] (regular shelf rows with aisles and cross-aisles).
-//! - Seed 003: [`lab_20x20`], a 20 x 20 lab with start cell 1 = `(0, 0)` and goal cell
+//! - The IGWO grid paper (`Liu2020Igwo`), [`lab_20x20`]: a 20 x 20 lab with start cell 1 = `(0, 0)` and goal cell
 //!   400 = `(19, 19)`.
 //!
 //! Every generated map is checked to admit an x-monotone path under the collision rule (the
-//! column encoding of seed 000 can only represent those), so all planners can be compared.
+//! column encoding of `Lei2024Warehouse` can only represent those), so all planners can be compared.
 
 use crate::geometry::{Cell, line_of_sight};
 use crate::grid::{Grid, GridRef};
 use rand_core::{Rng, SeedableRng};
 use rand_xoshiro::Xoshiro128PlusPlus;
 
-/// The two map kinds of seed 000.
+/// The two map kinds of the TCLHHO warehouse paper (`Lei2024Warehouse`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum MapKind {
@@ -36,7 +37,7 @@ impl MapKind {
 
 /// A generated map with its start and goal.
 #[derive(Clone, Debug)]
-pub struct SeedMap<const WORDS: usize> {
+pub struct PaperMap<const WORDS: usize> {
     /// The grid.
     pub grid: Grid<WORDS>,
     /// Start cell (top-left).
@@ -47,24 +48,25 @@ pub struct SeedMap<const WORDS: usize> {
 
 /// Why a map could not be generated.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum MapGenError {
     /// The size is below 6 or the grid capacity is too small.
     BadSize,
 }
 
-/// Seed 000's maps: `size x size` (10, 30 and 40 in the paper; any size from 6 works).
+/// `Lei2024Warehouse`'s maps: `size x size` (10, 30 and 40 in the paper; any size from 6 works).
 ///
 /// ```
-/// use planner_core::{grid::words_for, maps::{seed000, MapKind}};
+/// use planner_core::{grid::words_for, maps::{lei2024_warehouse, MapKind}};
 ///
-/// let map = seed000::<{ words_for(40, 40) }>(MapKind::Warehouse, 40)?;
+/// let map = lei2024_warehouse::<{ words_for(40, 40) }>(MapKind::Warehouse, 40)?;
 /// assert_eq!((map.start.x, map.start.y, map.goal.x, map.goal.y), (0, 0, 39, 39));
 /// # Ok::<(), planner_core::maps::MapGenError>(())
 /// ```
-pub fn seed000<const WORDS: usize>(
+pub fn lei2024_warehouse<const WORDS: usize>(
     kind: MapKind,
     size: usize,
-) -> Result<SeedMap<WORDS>, MapGenError> {
+) -> Result<PaperMap<WORDS>, MapGenError> {
     if size < 6 {
         return Err(MapGenError::BadSize);
     }
@@ -86,13 +88,13 @@ pub fn seed000<const WORDS: usize>(
             found.ok_or(MapGenError::BadSize)?
         }
     };
-    Ok(SeedMap { grid, start, goal })
+    Ok(PaperMap { grid, start, goal })
 }
 
-/// Seed 003's 20 x 20 lab: furniture blocks and a U-shaped bench facing the start (a local
-/// optimum for walks that head straight for the goal); start `(0, 0)`, goal `(19, 19)`.
-pub fn lab_20x20<const WORDS: usize>() -> Result<SeedMap<WORDS>, MapGenError> {
-    // A U-shaped bench opens towards the start: greedy diagonal walks run into it.
+/// `Liu2020Igwo`'s 20 x 20 lab: furniture blocks and a U-shaped bench facing the start (a local
+/// optimum for paths that head straight for the goal); start `(0, 0)`, goal `(19, 19)`.
+pub fn lab_20x20<const WORDS: usize>() -> Result<PaperMap<WORDS>, MapGenError> {
+    // A U-shaped bench opens towards the start: greedy diagonal paths run into it.
     const ROWS: [&[u8; 20]; 20] = [
         b"....................",
         b"........@@..........",
@@ -122,7 +124,7 @@ pub fn lab_20x20<const WORDS: usize>() -> Result<SeedMap<WORDS>, MapGenError> {
                 .map_err(|_| MapGenError::BadSize)?;
         }
     }
-    Ok(SeedMap {
+    Ok(PaperMap {
         grid,
         start: Cell::new(0, 0),
         goal: Cell::new(19, 19),
@@ -167,7 +169,7 @@ fn sparse<const WORDS: usize>(size: usize, seed: u64) -> Result<Grid<WORDS>, Map
         let h = 1 + (rng.next_u32() % 2) as usize;
         let x = (rng.next_u32() as usize) % size;
         let y = (rng.next_u32() as usize) % size;
-        // Keep the start and goal columns free: seed 000's column encoding moves vertically
+        // Keep the start and goal columns free: `Lei2024Warehouse`'s column encoding moves vertically
         // only there, so an obstacle in them would leave nothing for the optimizers to do.
         if x == 0 || x + w >= size {
             continue;
@@ -186,7 +188,7 @@ fn sparse<const WORDS: usize>(size: usize, seed: u64) -> Result<Grid<WORDS>, Map
 }
 
 /// Whether a path start -> (start column, r0) -> (next column, r1) -> ... -> goal exists
-/// (the shape seed 000's column encoding represents), by dynamic programming over columns.
+/// (the shape `Lei2024Warehouse`'s column encoding represents), by dynamic programming over columns.
 pub fn x_monotone_feasible(grid: GridRef<'_>, start: Cell, goal: Cell) -> bool {
     let h = grid.height();
     if start.x > goal.x || h > 256 {
@@ -220,8 +222,8 @@ mod tests {
     fn all_seed_maps_are_deterministic_and_solvable() {
         for kind in [MapKind::Sparse, MapKind::Warehouse] {
             for size in [10, 30, 40] {
-                let a = seed000::<{ words_for(40, 40) }>(kind, size).unwrap();
-                let b = seed000::<{ words_for(40, 40) }>(kind, size).unwrap();
+                let a = lei2024_warehouse::<{ words_for(40, 40) }>(kind, size).unwrap();
+                let b = lei2024_warehouse::<{ words_for(40, 40) }>(kind, size).unwrap();
                 assert_eq!(a.grid, b.grid);
                 assert!(
                     x_monotone_feasible(a.grid.view(), a.start, a.goal),
@@ -265,10 +267,10 @@ mod tests {
     #[test]
     fn bad_sizes_are_errors() {
         assert_eq!(
-            seed000::<{ words_for(40, 40) }>(MapKind::Sparse, 5).unwrap_err(),
+            lei2024_warehouse::<{ words_for(40, 40) }>(MapKind::Sparse, 5).unwrap_err(),
             MapGenError::BadSize
         );
-        assert!(seed000::<{ words_for(8, 8) }>(MapKind::Warehouse, 40).is_err());
+        assert!(lei2024_warehouse::<{ words_for(8, 8) }>(MapKind::Warehouse, 40).is_err());
         let _ = G::new(1, 1);
     }
 }

@@ -74,7 +74,7 @@ pub fn length(path: &[Point]) -> f32 {
     path.windows(2).map(|w| w[0].distance(w[1])).sum()
 }
 
-/// Number of direction changes after merging collinear nodes (seed 000's metric `P`).
+/// Number of direction changes after merging collinear nodes (`Lei2024Warehouse`'s metric `P`).
 pub fn turns(path: &[Point]) -> usize {
     let mut count = 0;
     let mut heading: Option<(f32, f32)> = None;

@@ -9,7 +9,7 @@ use planner_core::encoding::column::ColumnEncoding;
 use planner_core::encoding::corridor::{CorridorEncoding, Station};
 use planner_core::encoding::{Costs, Encoding};
 use planner_core::grid::words_for;
-use planner_core::maps::{MapKind, SeedMap, seed000};
+use planner_core::maps::{MapKind, PaperMap, lei2024_warehouse};
 use planner_core::optim::gwo::{Gwo, GwoParams};
 use planner_core::optim::hho::{Hho, HhoParams};
 use planner_core::optim::{Bounds, Optimizer, Settings, Stop};
@@ -18,11 +18,11 @@ use planner_core::search::astar::{self, AStarNode, OpenSlot};
 
 const WORDS: usize = words_for(40, 40);
 
-fn warehouse() -> SeedMap<WORDS> {
-    seed000::<WORDS>(MapKind::Warehouse, 40).unwrap()
+fn warehouse() -> PaperMap<WORDS> {
+    lei2024_warehouse::<WORDS>(MapKind::Warehouse, 40).unwrap()
 }
 
-fn guide(map: &SeedMap<WORDS>) -> Path<256> {
+fn guide(map: &PaperMap<WORDS>) -> Path<256> {
     let mut nodes = vec![AStarNode::EMPTY; 40 * 40];
     let mut open = vec![OpenSlot::EMPTY; astar::open_capacity(40 * 40)];
     let mut p = Path::new();

@@ -4,7 +4,7 @@
 //!
 //! The oracles are written here and share no code with the crate: a closed segment/square
 //! intersection test in `f64` (Liang-Barsky clipping) for the collision rule, a king-move
-//! checker for seed 003's loose walk rule, and a BFS over 4-connected free cells for
+//! checker for `Liu2020Igwo`'s loose walk rule, and a BFS over 4-connected free cells for
 //! reachability (under the collision rule a diagonal step needs both side cells free, so
 //! 8-connected reachability is 4-connectivity).
 //!
@@ -145,7 +145,7 @@ impl Map {
         })
     }
 
-    /// Seed 003's loose walk: king moves between cell centres onto free cells; a diagonal
+    /// `Liu2020Igwo`'s loose walk: king moves between cell centres onto free cells; a diagonal
     /// is forbidden only when both side cells are blocked.
     fn loose_walk_is_valid(&self, path: &[Point]) -> bool {
         let integral = |p: &Point| p.x.fract() == 0.0 && p.y.fract() == 0.0;
@@ -246,13 +246,13 @@ fn run(
             let mut tau = [0.0f32; 8 * CELLS];
             let mut delta = [0.0f32; 8 * CELLS];
             let mut visited = [0u32; CELLS / 32 + 1];
-            let mut walk = [0u32; CELLS];
+            let mut tour = [0u32; CELLS];
             let mut best = [0u32; CELLS];
             let mut ws = AcoWorkspace {
                 tau: &mut tau,
                 delta: &mut delta,
                 visited: &mut visited,
-                walk: &mut walk,
+                tour: &mut tour,
                 best: &mut best,
                 labels: &labels,
             };

@@ -14,8 +14,8 @@
 //!   Dijkstra; (f) pruning and shortcutting the planners' paths keeps them valid and no
 //!   longer;
 //! - `labels_match_bfs_components`: (c) labels partition free cells as BFS does;
-//! - `pruning_keeps_random_walks_valid`, `pruning_keeps_fractional_paths_valid`: (f) on
-//!   walks with revisits, reversals and repeats, and on fractional (dyadic) waypoints;
+//! - `pruning_keeps_random_routes_valid`, `pruning_keeps_fractional_paths_valid`: (f) on
+//!   grid routes with revisits, reversals and repeats, and on fractional (dyadic) waypoints;
 //! - `collision_checks_agree`: (d) `line_of_sight` = `segment_is_clear` on every pair of
 //!   cell centres (and = the exact validator on a sample);
 //! - `line_of_sight_on_large_maps`: (d) the same oracle on sparse maps up to 300 x 300;
@@ -571,10 +571,10 @@ proptest! {
         }
     }
 
-    /// (f) on arbitrary valid walks (revisits, reversals, repeated waypoints): pruning and
+    /// (f) on arbitrary valid grid routes (revisits, reversals, repeated waypoints): pruning and
     /// shortcutting keep them valid and never make them longer.
     #[test]
-    fn pruning_keeps_random_walks_valid(
+    fn pruning_keeps_random_routes_valid(
         m in map_strategy(),
         seed in any::<u64>(),
         steps in 0usize..60,
@@ -593,30 +593,30 @@ proptest! {
         };
         let mut cur = free[next(free.len())];
         let start = Cell::new(cur.0 as u16, cur.1 as u16);
-        let mut walk = Buf::new();
-        walk.push(Point::new(cur.0 as f32, cur.1 as f32)).unwrap();
+        let mut route = Buf::new();
+        route.push(Point::new(cur.0 as f32, cur.1 as f32)).unwrap();
         for _ in 0..steps {
             let options: Vec<_> = moves(&m, cur.0, cur.1).collect();
             // Sometimes stay put: repeated waypoints must be handled too.
             if options.is_empty() || next(8) == 0 {
-                walk.push(Point::new(cur.0 as f32, cur.1 as f32)).unwrap();
+                route.push(Point::new(cur.0 as f32, cur.1 as f32)).unwrap();
                 continue;
             }
             let (x, y, _) = options[next(options.len())];
             cur = (x, y);
-            walk.push(Point::new(x as f32, y as f32)).unwrap();
+            route.push(Point::new(x as f32, y as f32)).unwrap();
         }
         let goal = Cell::new(cur.0 as u16, cur.1 as u16);
-        check_path(&m, &walk, start, goal).map_err(TestCaseError::fail)?;
-        let before = len64(&walk);
-        let mut p = walk.clone();
+        check_path(&m, &route, start, goal).map_err(TestCaseError::fail)?;
+        let before = len64(&route);
+        let mut p = route.clone();
         path::prune_collinear(&mut p);
         check_path(&m, &p, start, goal).map_err(TestCaseError::fail)?;
         prop_assert!((len64(&p) - before).abs() < 1e-4);
         path::shortcut(g, &mut p);
         check_path(&m, &p, start, goal).map_err(TestCaseError::fail)?;
         prop_assert!(len64(&p) <= before + 1e-4);
-        let mut q = walk.clone();
+        let mut q = route.clone();
         path::shortcut(g, &mut q);
         check_path(&m, &q, start, goal).map_err(TestCaseError::fail)?;
         prop_assert!(len64(&q) <= before + 1e-4);
@@ -1012,9 +1012,9 @@ proptest! {
     /// cells a side, segments pass a corner or along an edge of a blocked cell near the far
     /// edge of the map (where coordinates round most) at distances from -3e-3 to 3e-3 cells,
     /// which covers the band (5.5e-4 and 1/512 cells) and TOUCH_EPS (1e-4). The verdict
-    /// from that cell alone must be the walk's.
+    /// from that cell alone must be the strip scan's.
     #[test]
-    fn blocked_cell_judgement_agrees_with_the_walk_near_the_band(
+    fn blocked_cell_judgement_agrees_with_the_strip_scan_near_the_band(
         large in any::<bool>(),
         corner in (0usize..2, 0usize..2),
         angle in prop_oneof![(0u32..8).prop_map(|k| k as f64 * 45.0), 0.0..360.0f64],

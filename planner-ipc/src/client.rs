@@ -20,8 +20,9 @@
 
 use crate::services::{self, EventService, Limits, LocalSvc, MapService, Names, PlanService};
 use crate::wire::{
-    DecodeError, Failure, LAYOUT_ROWS_AND_COLUMNS, MapHeader, MapMeta, PlanOk, PlanRequest,
-    PlanResponseHeader, RequestKind, ServiceError, Waypoint, frame_header, write_grid,
+    DecodeError, Failure, LAYOUT_ROWS_AND_COLUMNS, MapFacts, MapHeader, MapMeta, PlanOk,
+    PlanRequest, PlanResponseHeader, PlanView, ServiceError, Waypoint, decode_status, frame_header,
+    write_grid,
 };
 use iceoryx2::node::Node;
 use iceoryx2::port::client::Client;
@@ -259,6 +260,8 @@ pub struct PlannerClient<S: Service = LocalSvc> {
     /// Per map id: the last version this client published and its size.
     uploads: HashMap<u32, Upload>,
     last_server_time_us: Option<f32>,
+    /// What the last answer said of its map id (see [`PlanResponseHeader::map`]).
+    last_map: Option<MapFacts>,
 }
 
 #[derive(Clone, Copy)]
@@ -308,6 +311,7 @@ impl<S: Service> PlannerClient<S> {
             next_id: 1,
             uploads: HashMap::new(),
             last_server_time_us: None,
+            last_map: None,
         })
     }
 
@@ -462,7 +466,7 @@ impl<S: Service> PlannerClient<S> {
             }),
             other => other,
         })?;
-        let version = self.uploads.get(&map_id).map_or(1, |u| u.version + 1);
+        let version = self.next_version(map_id, Duration::from_secs(1));
         self.upload_map(
             MapMeta {
                 map_id,
@@ -475,6 +479,27 @@ impl<S: Service> PlannerClient<S> {
         Ok(version)
     }
 
+    /// The newest version of `map_id` the server holds (`0`: none), asked with a map-status
+    /// request; [`ClientError::NoServer`] when no server runs.
+    pub fn held_version(&mut self, map_id: u32, timeout: Duration) -> Result<u32, ClientError> {
+        let request = PlanRequest::map_status((map_id, 0));
+        match self.plan_in_place(&request, timeout, |_| ()) {
+            // Version 0 is never held: any answer but these says what is.
+            Ok(_) | Err(ClientError::Service(_)) => {}
+            Err(e) => return Err(e),
+        }
+        Ok(self.last_map.map_or(0, |m| m.version))
+    }
+
+    /// A version for the next upload of `map_id`: above the server's (when one answers
+    /// within `timeout`) and this client's own uploads, so that a new map under an id another
+    /// process used is not ignored as outdated.
+    pub fn next_version(&mut self, map_id: u32, timeout: Duration) -> u32 {
+        let own = self.uploads.get(&map_id).map_or(0, |u| u.version);
+        let held = self.held_version(map_id, timeout).unwrap_or(0);
+        own.max(held).saturating_add(1)
+    }
+
     /// Waits until the server holds `map_id` at `version` (or reports it rejected, e.g.
     /// [`ServiceError::MapTooLarge`]).
     pub fn wait_for_map(
@@ -482,19 +507,12 @@ impl<S: Service> PlannerClient<S> {
         map_id: u32,
         version: u32,
         timeout: Duration,
-    ) -> Result<(), ClientError> {
+    ) -> Result<MapFacts, ClientError> {
         let deadline = Instant::now() + timeout;
-        let mut request = PlanRequest::new(
-            (map_id, version),
-            [0, 0],
-            [0, 0],
-            crate::wire::Algorithm::AStar,
-        );
-        request.kind = RequestKind::MapStatus as u8;
         loop {
             let left = deadline.saturating_duration_since(Instant::now());
-            match self.plan(&request, left) {
-                Ok(_) => return Ok(()),
+            match self.map_status(map_id, version, left) {
+                Ok(facts) => return Ok(facts),
                 Err(ClientError::Service(ServiceError::UnknownMap)) if !left.is_zero() => {
                     std::thread::sleep(Duration::from_millis(1));
                 }
@@ -504,6 +522,20 @@ impl<S: Service> PlannerClient<S> {
                 Err(e) => return Err(e),
             }
         }
+    }
+
+    /// Asks once whether the server holds `map_id` at `version`: its size and how long the
+    /// server took to build its grid, or the map error
+    /// ([`ServiceError::UnknownMap`], [`ServiceError::StaleMapVersion`], a rejection).
+    pub fn map_status(
+        &mut self,
+        map_id: u32,
+        version: u32,
+        timeout: Duration,
+    ) -> Result<MapFacts, ClientError> {
+        let request = PlanRequest::map_status((map_id, version));
+        let (facts, _) = self.plan_in_place(&request, timeout, |view| view.header().map())?;
+        facts.ok_or(ClientError::BadResponse(DecodeError::BadPath))
     }
 
     /// Sends one request and waits at most `timeout` for its answer. The request's
@@ -528,8 +560,21 @@ impl<S: Service> PlannerClient<S> {
         request: &PlanRequest,
         timeout: Duration,
     ) -> Result<(PlanOk, f32), ClientError> {
+        self.plan_in_place(request, timeout, |view| view.to_owned())
+    }
+
+    /// Like [`plan_raw`](Self::plan_raw), handing `read` the answer where it arrived: its
+    /// waypoints are read in shared memory, not copied (the answer is released when `read`
+    /// returns).
+    pub fn plan_in_place<T>(
+        &mut self,
+        request: &PlanRequest,
+        timeout: Duration,
+        read: impl FnOnce(PlanView<'_>) -> T,
+    ) -> Result<(T, f32), ClientError> {
         let began = Instant::now();
         self.last_server_time_us = None;
+        self.last_map = None;
         // A server that (re)started since the last call gets the current maps first.
         if let Some(map) = &self.map {
             let _ = map.publisher.update_connections();
@@ -570,12 +615,17 @@ impl<S: Service> PlannerClient<S> {
                         got: header.request_id,
                     });
                 }
-                let result = header
-                    .decode(response.payload())
-                    .map_err(ClientError::BadResponse)?;
-                self.last_server_time_us = Some(result.time_us);
-                return match result.outcome {
-                    Ok(ok) => Ok((ok, result.time_us)),
+                let status = decode_status(header.status).ok_or(ClientError::BadResponse(
+                    DecodeError::UnknownStatus(header.status),
+                ))?;
+                self.last_server_time_us = Some(header.time_us);
+                self.last_map = header.map();
+                return match status {
+                    Ok(()) => {
+                        let view = PlanView::new(header, response.payload())
+                            .map_err(ClientError::BadResponse)?;
+                        Ok((read(view), header.time_us))
+                    }
                     Err(Failure::Service(ServiceError::MapTooLarge)) => {
                         Err(ClientError::MapTooLarge(MapTooLarge {
                             // The size of the map named, if this client uploaded it.
@@ -584,7 +634,7 @@ impl<S: Service> PlannerClient<S> {
                                 .get(&request.map_id)
                                 .filter(|u| u.version == request.map_version)
                                 .map(|u| (u.width, u.height)),
-                            max_cells: header.map_limit(),
+                            max_cells: Some(header.max_cells),
                             refused_by: Refusal::Server,
                         }))
                     }
@@ -626,7 +676,7 @@ fn record_upload(uploads: &mut HashMap<u32, Upload>, header: &MapHeader) {
     uploads.insert(
         header.map_id,
         Upload {
-            version: header.version,
+            version: header.map_version,
             width: header.width,
             height: header.height,
         },
@@ -753,7 +803,7 @@ mod tests {
         .unwrap();
         // Wait for the server (it creates the map service with its limit).
         let mut probe = PlanRequest::new((9, 1), [0, 0], [0, 0], crate::wire::Algorithm::AStar);
-        probe.kind = RequestKind::MapStatus as u8;
+        probe.kind = crate::wire::RequestKind::MapStatus.code();
         let began = Instant::now();
         while client.plan(&probe, Duration::from_millis(200)) == Err(ClientError::NoServer) {
             assert!(began.elapsed() < Duration::from_secs(10), "no server");
@@ -844,7 +894,7 @@ mod tests {
         })
         .unwrap();
         let mut probe = PlanRequest::new((99, 1), [0, 0], [0, 0], crate::wire::Algorithm::AStar);
-        probe.kind = RequestKind::MapStatus as u8;
+        probe.kind = crate::wire::RequestKind::MapStatus.code();
         let began = Instant::now();
         while client.plan(&probe, Duration::from_millis(200)) == Err(ClientError::NoServer) {
             assert!(began.elapsed() < Duration::from_secs(10), "no server");
@@ -914,7 +964,7 @@ mod tests {
         // A loan dropped unpublished sends nothing.
         drop(client.loan_map(meta(8, 1), 4, 4).unwrap());
         let mut status = PlanRequest::new((8, 1), [0, 0], [0, 0], crate::wire::Algorithm::AStar);
-        status.kind = RequestKind::MapStatus as u8;
+        status.kind = crate::wire::RequestKind::MapStatus.code();
         assert_eq!(
             client.plan(&status, Duration::from_secs(5)),
             Err(ClientError::Service(ServiceError::UnknownMap))

@@ -7,16 +7,16 @@
 //! shared memory, planned on through a [`GridRef`] view of its words, never copied).
 
 use crate::wire::{
-    Algorithm, Failure, MAX_WAYPOINTS, MapMeta, PlanOk, PlanRequest, PlanResult, RequestKind,
-    ServiceError, to_cell,
+    Algorithm, Failure, MAX_WAYPOINTS, MapFacts, MapMeta, PlanAnswer, PlanFound, PlanRequest,
+    PlanResult, RequestKind, ServiceError, to_cell,
 };
 use planner_core::PlanError;
 use planner_core::grid::{GridBuf, GridRef, words_for};
 use planner_core::optim::any::AlgorithmKind;
 use planner_core::path::{Path, PathView};
-use planner_core::planner::PlanParams;
 use planner_core::planner::aco::AcoParams;
-use planner_core::planner::owned::HostPlanner;
+use planner_core::planner::owned::{HostPlanner, PlanChoice};
+use planner_core::planner::{PlanOptions, PlanParams};
 use std::collections::HashMap;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex, RwLock};
@@ -231,6 +231,11 @@ impl<F: FrameWords> MapStore<F> {
         self.max_cells
     }
 
+    /// How many map ids the store keeps at once.
+    pub fn max_maps(&self) -> usize {
+        self.max_maps
+    }
+
     /// Takes a map version: `grid` is the decoded frame or the decoding error.
     pub fn update(&self, meta: MapMeta, grid: Result<GridBuf, ServiceError>) -> MapUpdate {
         self.update_decoded(meta, grid, 0.0)
@@ -247,12 +252,14 @@ impl<F: FrameWords> MapStore<F> {
         self.update_cells(meta, grid.map(MapCells::Grid), decode_us)
     }
 
-    /// Whether a frame of `meta` would be stored (no newer or equal version held): a
-    /// receiver may skip checking an outdated frame.
+    /// Whether a frame of `meta` would be stored (no newer or equal version held; versions
+    /// count from 1, so version 0 never is): a receiver may skip checking an outdated frame.
     pub fn is_newer(&self, meta: &MapMeta) -> bool {
         let maps = self.maps.read().unwrap_or_else(|p| p.into_inner());
-        maps.get(&meta.map_id)
-            .is_none_or(|slot| slot.version() < meta.version)
+        meta.version > 0
+            && maps
+                .get(&meta.map_id)
+                .is_none_or(|slot| slot.version() < meta.version)
     }
 
     /// Takes a map version whose cells are in the server's memory or in a kept frame (see
@@ -263,13 +270,8 @@ impl<F: FrameWords> MapStore<F> {
         grid: Result<MapCells<F>, ServiceError>,
         decode_us: f32,
     ) -> MapUpdate {
-        {
-            let maps = self.maps.read().unwrap_or_else(|p| p.into_inner());
-            if let Some(slot) = maps.get(&meta.map_id)
-                && slot.version() >= meta.version
-            {
-                return MapUpdate::Outdated;
-            }
+        if !self.is_newer(&meta) {
+            return MapUpdate::Outdated;
         }
         // Prepare (labels) outside the lock: workers keep planning on the old version.
         let slot = match grid.and_then(Prepared::new) {
@@ -302,6 +304,24 @@ impl<F: FrameWords> MapStore<F> {
         }
         maps.insert(meta.map_id, slot);
         result
+    }
+
+    /// What the store holds of `map_id`: its newest version, and that version's size and
+    /// decoding time when it was taken (zero for a rejected frame); `None` for an unknown id.
+    pub fn facts(&self, map_id: u32) -> Option<MapFacts> {
+        let maps = self.maps.read().unwrap_or_else(|p| p.into_inner());
+        maps.get(&map_id).map(|slot| match slot {
+            Slot::Ready(m) => MapFacts {
+                version: m.meta.version,
+                width: m.base.width as u32,
+                height: m.base.height as u32,
+                decode_us: m.decode_us,
+            },
+            Slot::Rejected { version, .. } => MapFacts {
+                version: *version,
+                ..MapFacts::default()
+            },
+        })
     }
 
     /// The map a request names, or why it cannot be used.
@@ -366,12 +386,36 @@ impl<F: FrameWords> Engine<F> {
         request: &PlanRequest,
         cancelled: &mut dyn FnMut() -> bool,
     ) -> PlanResult {
+        self.handle_in_place(scratch, request, cancelled).to_owned()
+    }
+
+    /// Like [`handle`](Self::handle), leaving the path where it was planned: in `scratch`,
+    /// until its next request (the server writes it from there straight into the answer's
+    /// shared memory).
+    pub fn handle_in_place<'s>(
+        &self,
+        scratch: &'s mut Scratch,
+        request: &PlanRequest,
+        cancelled: &mut dyn FnMut() -> bool,
+    ) -> PlanAnswer<'s> {
         let began = Instant::now();
-        let outcome = self.handle_inner(scratch, request, cancelled);
-        PlanResult {
+        let mut map = None;
+        let outcome = self.handle_inner(scratch, request, &mut map, cancelled);
+        let time_us = began.elapsed().as_secs_f32() * 1e6;
+        PlanAnswer {
             request_id: request.request_id,
-            outcome,
-            time_us: began.elapsed().as_secs_f32() * 1e6,
+            outcome: outcome.map(|figures| PlanFound {
+                path: if figures.planned {
+                    &scratch.path[..]
+                } else {
+                    &[]
+                },
+                length: figures.length,
+                turns: figures.turns,
+                evaluations: figures.evaluations,
+            }),
+            map,
+            time_us,
         }
     }
 
@@ -379,17 +423,18 @@ impl<F: FrameWords> Engine<F> {
         &self,
         scratch: &mut Scratch,
         req: &PlanRequest,
+        facts: &mut Option<MapFacts>,
         cancelled: &mut dyn FnMut() -> bool,
-    ) -> Result<PlanOk, Failure> {
+    ) -> Result<Figures, Failure> {
         let kind = req.kind()?;
+        *facts = self.store.facts(req.map_id);
         let map = self.store.lookup(req.map_id, req.map_version)?;
         if kind == RequestKind::MapStatus {
-            let (w, h) = map.size();
-            return Ok(PlanOk {
-                path: Vec::new(),
-                length: map.decode_us,
-                turns: w as u32,
-                evaluations: h as u32,
+            return Ok(Figures {
+                planned: false,
+                length: 0.0,
+                turns: 0,
+                evaluations: 0,
             });
         }
         let algorithm = Algorithm::from_code(req.algorithm)?;
@@ -406,6 +451,14 @@ impl<F: FrameWords> Engine<F> {
     }
 }
 
+/// What a request produced besides the path (which stays in the scratch when `planned`).
+struct Figures {
+    planned: bool,
+    length: f32,
+    turns: u32,
+    evaluations: u32,
+}
+
 /// Runs one planner. Swarm planners and ACO poll `cancelled` once per iteration (a client
 /// that gave up stops the work; the caller then answers `Cancelled`).
 fn run_planner<F: FrameWords>(
@@ -414,7 +467,7 @@ fn run_planner<F: FrameWords>(
     scratch: &mut Scratch,
     req: &PlanRequest,
     cancelled: &mut dyn FnMut() -> bool,
-) -> Result<PlanOk, Failure> {
+) -> Result<Figures, Failure> {
     let grid = prepared.view()?;
     // The start is checked against the map before the goal is converted, so that a start
     // outside the map is reported as such whatever the goal (as the planners do).
@@ -429,14 +482,15 @@ fn run_planner<F: FrameWords>(
         scratch.prepared_for = Some(prepared.id);
     }
     let defaults = PlanParams::new(AlgorithmKind::Tclhho);
-    let count = |v: f32, default: usize| if v == 0.0 { default } else { v as usize };
-    let stagnation = req.params.extra[0] as u32;
+    let count = |v: u32, default: usize| if v == 0 { default } else { v as usize };
+    let stagnation = req.params.stagnation;
     let params = PlanParams {
         population: count(req.params.population, defaults.population),
         iterations: count(req.params.iterations, defaults.iterations as usize) as u32,
         stagnation: (stagnation > 0).then_some(stagnation),
         seed: req.seed,
         guide: req.params.guide().ok_or(PlanError::InvalidParameters)?,
+        blend: req.params.blend(),
         ..defaults
     };
     let aco = AcoParams {
@@ -452,17 +506,21 @@ fn run_planner<F: FrameWords>(
     let out: &mut PathView = &mut *scratch.path;
     let outcome = scratch.planner.plan(
         grid,
-        algorithm.kind(),
         start,
         goal,
-        &params,
-        &aco,
+        &PlanChoice {
+            kind: algorithm.kind(),
+            params,
+            aco,
+        },
         out,
-        &mut [],
-        cancelled,
+        PlanOptions {
+            history: &mut [],
+            interrupt: Some(cancelled),
+        },
     )?;
-    Ok(PlanOk {
-        path: out.to_vec(),
+    Ok(Figures {
+        planned: true,
         length: outcome.length,
         turns: outcome.turns as u32,
         evaluations: match (outcome.expanded, outcome.report) {
@@ -520,14 +578,11 @@ mod tests {
                 .update_decoded(meta(4, 1), grid(b"....\n....\n....\n"), 12.5),
             MapUpdate::Stored
         );
-        let mut status = PlanRequest::new((4, 1), [0, 0], [0, 0], Algorithm::AStar);
-        status.kind = RequestKind::MapStatus as u8;
-        let ok = e
-            .handle(&mut Scratch::default(), &status, &mut || false)
-            .outcome
-            .unwrap();
-        assert_eq!((ok.turns, ok.evaluations, ok.length), (4, 3, 12.5));
-        assert!(ok.path.is_empty());
+        let status = PlanRequest::map_status((4, 1));
+        let answer = e.handle(&mut Scratch::default(), &status, &mut || false);
+        let facts = answer.map.unwrap();
+        assert_eq!((facts.width, facts.height, facts.decode_us), (4, 3, 12.5));
+        assert!(answer.outcome.unwrap().path.is_empty());
     }
 
     #[test]

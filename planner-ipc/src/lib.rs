@@ -1,15 +1,19 @@
 //! The warehouse planner as a shared-memory service over iceoryx2 (issue 5).
 //!
 //! Layers, bottom up (like smoltcp):
-//! - [`wire`]: fixed-layout `#[repr(C)]` [`ZeroCopySend`](iceoryx2::prelude::ZeroCopySend)
-//!   payloads ([`wire::MapHeader`] + map words, [`wire::PlanRequest`],
-//!   [`wire::PlanResponseHeader`] + [`wire::Waypoint`]s), status
-//!   codes, typed errors, validation, and serde mirrors for byte streams (postcard);
+//! - [`wire`]: wire v1, fixed-layout `#[repr(C)]`
+//!   [`ZeroCopySend`](iceoryx2::prelude::ZeroCopySend) payloads with versioned type names,
+//!   one module per message ([`wire::map_frame`], [`wire::plan_request`],
+//!   [`wire::plan_response`]), status and algorithm codes, validation, serde mirrors for byte
+//!   streams (postcard), and the ABI table behind the C header ([`wire::abi`]); the
+//!   protocol reference for other languages is `docs/wire.md`;
 //! - [`jsonl`]: the JSON-lines result format shared with `host-sim plan`;
 //! - [`engine`]: the transport-free map store and planner dispatch;
 //! - [`services`]: service names and settings, node creation, dead-node cleanup;
 //! - [`server`]: the serving loop, worker threads, cancellation, shutdown;
-//! - [`client`]: the client library (`plan(request, timeout)`, map upload, wait modes).
+//! - [`client`]: the client library (`plan(request, timeout)`, map upload, wait modes);
+//! - `zenoh` (feature `zenoh`): the same engine and wire types over Zenoh, across hosts
+//!   (`docs/zenoh.md`).
 //!
 //! Binaries: `planner-server`, `planner-client` (people's CLI), `planner-bench`.
 #![deny(unsafe_code)]
@@ -22,3 +26,5 @@ pub mod jsonl;
 pub mod server;
 pub mod services;
 pub mod wire;
+#[cfg(feature = "zenoh")]
+pub mod zenoh;

@@ -24,7 +24,7 @@
 use crate::engine::{Engine, FrameWords, MapCells, MapUpdate, NoFrame, Scratch};
 use crate::services::{self, Limits, LocalSvc, Names, Svc};
 use crate::wire::{
-    Failure, LAYOUT_ROWS, MapHeader, PlanRequest, PlanResponseHeader, PlanResult, ServiceError,
+    Failure, LAYOUT_ROWS, MapHeader, PlanAnswer, PlanRequest, PlanResponseHeader, ServiceError,
     Waypoint, first_disagreement, frame_grid, grid_from_bits,
 };
 use iceoryx2::active_request::ActiveRequest;
@@ -101,7 +101,7 @@ struct Shared<S: Service, F = NoFrame> {
     node: Node<S>,
     names: Names,
     limits: Limits,
-    engine: Engine<F>,
+    engine: Arc<Engine<F>>,
     wakers: Mutex<HashMap<u64, Waker<S>>>,
     served: AtomicU64,
     cancelled: AtomicU64,
@@ -116,11 +116,36 @@ struct Waker<S: Service> {
 pub fn run(config: &ServerConfig, shutdown: &AtomicBool) -> anyhow::Result<()> {
     if config.workers > 1 {
         // Active requests cross to the workers: thread-safe ports.
-        serve_ports::<Svc, NoFrame>(config, shutdown, Some(spawn_workers))
+        let engine = Arc::new(Engine::new(config.max_cells, config.max_maps));
+        serve_ports::<Svc, NoFrame>(config, engine, shutdown, Some(spawn_workers))
     } else {
         // One thread owns everything: single-threaded ports, no mutex per port call, and
-        // map frames planned on where they lie.
-        serve_ports::<LocalSvc, Held>(config, shutdown, None)
+        // map frames planned on where they lie. The engine then holds frames of this
+        // thread's ports and stays on it; the `Arc` is for the other flavour's workers.
+        #[allow(clippy::arc_with_non_send_sync)]
+        let engine = Arc::new(Engine::keeping_frames(config.max_cells, config.max_maps));
+        serve_ports::<LocalSvc, Held>(config, engine, shutdown, None)
+    }
+}
+
+/// Like [`run`], planning with an engine shared with another front end (the Zenoh one,
+/// `planner-server --transport both`): every received frame is copied into the engine's
+/// own memory (a frame kept in place would tie the engine to this thread). The engine's
+/// limits are used; `config.max_cells` and `config.max_maps` are ignored.
+pub fn run_with_engine(
+    config: &ServerConfig,
+    engine: Arc<Engine>,
+    shutdown: &AtomicBool,
+) -> anyhow::Result<()> {
+    let config = ServerConfig {
+        max_cells: engine.store.max_cells(),
+        max_maps: engine.store.max_maps(),
+        ..config.clone()
+    };
+    if config.workers > 1 {
+        serve_ports::<Svc, NoFrame>(&config, engine, shutdown, Some(spawn_workers))
+    } else {
+        serve_ports::<LocalSvc, NoFrame>(&config, engine, shutdown, None)
     }
 }
 
@@ -218,6 +243,7 @@ impl Drop for HeldCount {
 /// `config.workers` threads plan, without it the port thread plans each request inline.
 fn serve_ports<S: Service, F: Keep<S>>(
     config: &ServerConfig,
+    engine: Arc<Engine<F>>,
     shutdown: &AtomicBool,
     spawn: Option<SpawnWorkers<S, F>>,
 ) -> anyhow::Result<()> {
@@ -254,17 +280,18 @@ fn serve_ports<S: Service, F: Keep<S>>(
         limit: services::map_borrow_limit(&map_service),
         per_publisher: HashMap::new(),
     };
+    // The wake event first: a client that finds the plan service finds it too.
+    let wake_service = services::event_service(&node, &config.names.plan_wake()?, &config.limits)?;
+    let listener = wake_service
+        .listener_builder()
+        .create()
+        .map_err(|e| anyhow::anyhow!("wake listener: {e:?}"))?;
     let plan_service = services::plan_service_create(&node, &config.names, &config.limits)?;
     let server = plan_service
         .server_builder()
         .initial_max_slice_len(services::PATH_SLICE_CAPACITY)
         .create()
         .map_err(|e| anyhow::anyhow!("plan server port: {e:?}"))?;
-    let wake_service = services::event_service(&node, &config.names.plan_wake()?, &config.limits)?;
-    let listener = wake_service
-        .listener_builder()
-        .create()
-        .map_err(|e| anyhow::anyhow!("wake listener: {e:?}"))?;
 
     // With kept frames (single-threaded ports) `Shared` is neither `Send` nor `Sync` and
     // stays on this thread; the `Arc` is for the worker pool of the other flavour.
@@ -273,7 +300,7 @@ fn serve_ports<S: Service, F: Keep<S>>(
         node,
         names: config.names.clone(),
         limits: config.limits.clone(),
-        engine: Engine::keeping_frames(config.max_cells, config.max_maps),
+        engine,
         wakers: Mutex::new(HashMap::new()),
         served: AtomicU64::new(0),
         cancelled: AtomicU64::new(0),
@@ -347,11 +374,10 @@ fn serve_ports<S: Service, F: Keep<S>>(
     let mut refused = 0u64;
     while let Ok(Some(active)) = server.receive() {
         let request = *active.payload();
-        let result = PlanResult {
-            request_id: request.request_id,
-            outcome: Err(Failure::Service(ServiceError::ServerShuttingDown)),
-            time_us: 0.0,
-        };
+        let result = PlanAnswer::failed(
+            request.request_id,
+            Failure::Service(ServiceError::ServerShuttingDown),
+        );
         respond(&shared, active, &request, &result);
         refused += 1;
     }
@@ -430,7 +456,11 @@ fn drain_maps<S: Service, F: Keep<S>>(
                 frame.height,
                 frame.layout,
                 words,
-                how
+                if how.is_empty() {
+                    String::new()
+                } else {
+                    format!("; {how}")
+                }
             ),
         }
     }
@@ -448,6 +478,9 @@ fn take_frame<S: Service, F: Keep<S>>(
     config: &ServerConfig,
 ) -> (Result<MapCells<F>, ServiceError>, String) {
     let (w, h) = (frame.width as usize, frame.height as usize);
+    if let Err(e) = frame.check() {
+        return (Err(e), String::new());
+    }
     if frame.layout == LAYOUT_ROWS {
         let grid = grid_from_bits(frame.width, frame.height, sample.payload(), max_cells);
         return (grid.map(MapCells::Grid), "built from rows".into());
@@ -458,7 +491,7 @@ fn take_frame<S: Service, F: Keep<S>>(
     if config.verify_maps {
         let (rows, columns) = sample.payload().split_at(frame.words());
         if let Some((x, y)) = first_disagreement(w, h, rows, columns) {
-            let detail = format!("; its layouts disagree first at cell ({x}, {y})");
+            let detail = format!("its layouts disagree first at cell ({x}, {y})");
             return (Err(ServiceError::InvalidRequest), detail);
         }
     }
@@ -499,15 +532,14 @@ fn serve<S: Service, F: FrameWords>(
     let request = *active.payload();
     let late = received.is_some_and(|t| t.elapsed() > Duration::from_micros(request.deadline_us));
     let result = if late {
-        PlanResult {
-            request_id: request.request_id,
-            outcome: Err(Failure::Service(ServiceError::DeadlineExceeded)),
-            time_us: 0.0,
-        }
+        PlanAnswer::failed(
+            request.request_id,
+            Failure::Service(ServiceError::DeadlineExceeded),
+        )
     } else {
         shared
             .engine
-            .handle(scratch, &request, &mut || !active.is_connected())
+            .handle_in_place(scratch, &request, &mut || !active.is_connected())
     };
     if let Err(f) = &result.outcome {
         log::debug!(
@@ -537,7 +569,7 @@ fn respond<S: Service, F: FrameWords>(
     shared: &Shared<S, F>,
     active: Active<S>,
     request: &PlanRequest,
-    result: &PlanResult,
+    result: &PlanAnswer<'_>,
 ) {
     if !active.is_connected() {
         shared.cancelled.fetch_add(1, Ordering::Relaxed);
@@ -547,13 +579,13 @@ fn respond<S: Service, F: FrameWords>(
         );
         return;
     }
-    let mut header = PlanResponseHeader::new(request, result);
-    header.set_map_limit(shared.engine.store.max_cells());
+    let header = PlanResponseHeader::new(request, result, shared.engine.store.max_cells());
     let path = match &result.outcome {
-        Ok(ok) => &ok.path[..header.waypoints as usize],
+        Ok(found) => &found.path[..header.waypoints as usize],
         Err(_) => &[],
     };
-    // Only the used waypoints are written into shared memory.
+    // Only the used waypoints are written into shared memory, straight from the scratch
+    // the planner wrote them to.
     let sent = active
         .loan_slice_uninit(path.len())
         .map_err(|e| format!("{e:?}"))
@@ -590,7 +622,8 @@ fn wake<S: Service, F: FrameWords>(shared: &Shared<S, F>, token: u64) {
             wakers.clear();
         }
         let opened = shared.names.client_wake(token).and_then(|name| {
-            let service = services::event_service(&shared.node, &name, &shared.limits)?;
+            // The client created its event; a token without one is not ours to create.
+            let service = services::event_service_open(&shared.node, &name, &shared.limits)?;
             let notifier = service
                 .notifier_builder()
                 .create()

@@ -160,7 +160,7 @@ pub fn map_service<S: Service>(
         // it as it is (a server then copies every frame, see `held_frames_limit`).
         Err(e) => map_builder(node, names, limits, 1)?
             .open()
-            .map_err(|_| anyhow::anyhow!("map service: {e:?}")),
+            .map_err(|_| not_ours(&names.map(), e)),
     }
 }
 
@@ -245,7 +245,22 @@ pub fn plan_service_create<S: Service>(
 ) -> anyhow::Result<PlanService<S>> {
     plan_builder(node, names, limits)?
         .open_or_create()
-        .map_err(|e| anyhow::anyhow!("plan service: {e:?}"))
+        .map_err(|e| not_ours(&names.plan(), e))
+}
+
+/// The error of a server that cannot open a service someone else created with other
+/// settings or types: most often a foreign client that called `open_or_create` with
+/// iceoryx2's defaults before the server started (clients must only open services).
+pub fn not_ours(name: &anyhow::Result<ServiceName>, e: impl core::fmt::Debug) -> anyhow::Error {
+    let name = name
+        .as_ref()
+        .map_or_else(|_| "?".to_string(), |n| n.to_string());
+    anyhow::anyhow!(
+        "service {name:?} exists with settings or payload types this server cannot use \
+         ({e:?}); it was most likely created by a client before the server started (clients \
+         must open the services, never create them: docs/wire.md). Stop the processes that \
+         hold it, or use another --prefix, then start planner-server again"
+    )
 }
 
 /// Opens the plan service (a client): fails when no server ever created it.
@@ -298,6 +313,21 @@ pub fn event_service<S: Service>(
         .max_listeners(4)
         .max_nodes(limits.max_nodes)
         .open_or_create()
+        .map_err(|e| not_ours(&Ok(*name), e))
+}
+
+/// Opens an existing event service (a client's wake event, which the server never creates).
+pub fn event_service_open<S: Service>(
+    node: &Node<S>,
+    name: &ServiceName,
+    limits: &Limits,
+) -> anyhow::Result<EventService<S>> {
+    node.service_builder(name)
+        .event()
+        .max_notifiers(limits.max_clients + 2)
+        .max_listeners(4)
+        .max_nodes(limits.max_nodes)
+        .open()
         .map_err(|e| anyhow::anyhow!("event service {name}: {e:?}"))
 }
 

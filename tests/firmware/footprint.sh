@@ -50,7 +50,7 @@ over() { # name
 [ "$flash" -le "$FLASH_BUDGET" ] || over flash
 # The planner state must be zero-initialised (.bss): one non-zero byte in its initialiser
 # would put all of it in .data, copied from an equally large flash image (see
-# `Swarm::unconfigured` in planner-core).
+# `SwarmState::unconfigured` in planner-core).
 for s in PLANNER SITE; do
     kind=$(arm-none-eabi-nm -C "$elf" | awk -v s="planner_firmware::$s" '$3 == s { print $2 }')
     if [ "$kind" != b ] && [ "$kind" != B ]; then

@@ -38,14 +38,15 @@ fn garbage_fields_get_typed_errors() {
 
     let frame = |id: u32, width: u32, height: u32| MapHeader {
         map_id: id,
-        version: 1,
+        map_version: 1,
         width,
         height,
         resolution: f32::NAN,
         origin: [f32::INFINITY, f32::NAN],
         layout: LAYOUT_ROWS,
+        ..MapHeader::default()
     };
-    let with_layout = |header: MapHeader, layout: u32| MapHeader { layout, ..header };
+    let with_layout = |header: MapHeader, layout: u8| MapHeader { layout, ..header };
     let frames: Vec<(MapHeader, Vec<u32>, ServiceError)> = vec![
         // 64 x 64 cells need 128 words; 3 sent.
         (
@@ -70,7 +71,24 @@ fn garbage_fields_get_typed_errors() {
         (frame(15, 400, 300), vec![0; 8], ServiceError::MapTooLarge),
         // Layouts: unknown; both announced but only the rows (or less) sent.
         (
-            with_layout(frame(17, 4, 4), 0xdead_beef),
+            with_layout(frame(17, 4, 4), 0xef),
+            vec![0; 8],
+            ServiceError::InvalidRequest,
+        ),
+        // Another wire version; a reserved byte set.
+        (
+            MapHeader {
+                wire_version: 7,
+                ..frame(22, 4, 4)
+            },
+            vec![0; 8],
+            ServiceError::UnsupportedVersion,
+        ),
+        (
+            MapHeader {
+                reserved: 1,
+                ..frame(23, 4, 4)
+            },
             vec![0; 8],
             ServiceError::InvalidRequest,
         ),
@@ -159,20 +177,29 @@ fn garbage_fields_get_typed_errors() {
             with(&|r| r.map_id = u32::MAX),
             service(ServiceError::UnknownMap),
         ),
-        // Counts beyond 2^24, fractional, negative, NaN, infinite.
-        (with(&|r| r.params.population = 1e30), invalid.clone()),
+        // Counts beyond 2^24, unknown guide codes, reserved bytes, another wire version.
+        (with(&|r| r.params.population = u32::MAX), invalid.clone()),
+        (with(&|r| r.params.iterations = 16_777_217), invalid.clone()),
+        (with(&|r| r.params.stagnation = 1 << 30), invalid.clone()),
+        (with(&|r| r.params.guide = 2), invalid.clone()),
+        // The blended objective's terms: finite and not negative.
+        (with(&|r| r.params.clearance = -2.0), invalid.clone()),
         (
-            with(&|r| r.params.iterations = 16_777_216.0),
+            with(&|r| r.params.clearance_weight = f32::INFINITY),
             invalid.clone(),
         ),
-        (with(&|r| r.params.iterations = 2.5), invalid.clone()),
-        (with(&|r| r.params.population = -1.0), invalid.clone()),
-        (with(&|r| r.params.extra[0] = f32::NAN), invalid.clone()),
+        (with(&|r| r.params.turn_weight = f32::NAN), invalid.clone()),
+        (with(&|r| r.params.reserved = [0, 0, 9]), invalid.clone()),
         (
-            with(&|r| r.params.extra[4] = f32::NEG_INFINITY),
-            invalid.clone(),
+            with(&|r| r.reserved = 1),
+            service(ServiceError::InvalidRequest),
         ),
-        (with(&|r| r.params.extra[2] = -0.5), invalid.clone()),
+        (
+            with(&|r| r.wire_version = 0),
+            service(ServiceError::UnsupportedVersion),
+        ),
+        (with(&|r| r.params.radius = f32::NAN), invalid.clone()),
+        (with(&|r| r.params.radius = -0.5), invalid.clone()),
         // A robot radius beyond the largest map side, or not finite.
         (with(&|r| r.params.radius = 1e6), invalid.clone()),
         (with(&|r| r.params.radius = f32::INFINITY), invalid.clone()),
@@ -194,9 +221,8 @@ fn garbage_fields_get_typed_errors() {
         assert_eq!(c.plan(&request, T), Err(want), "{request:?}");
         assert_eq!(c.plan(&good, T).as_ref(), Ok(&ok), "server stopped serving");
     }
-    // Reserved bytes and an absurd deadline do not change the answer.
+    // An absurd deadline does not change the answer.
     let odd = with(&|r| {
-        r.reserved = [0xff; 6];
         r.deadline_us = u64::MAX;
     });
     assert_eq!(c.plan(&odd, T), Ok(ok));
@@ -222,7 +248,7 @@ fn typed_errors_while_the_server_keeps_serving() {
     // Every planner of planner-core is served; the swarm planners are deterministic per seed.
     for algo in Algorithm::ALL {
         let mut r = req((1, v1), [143, 57], [10, 16], algo);
-        r.params.iterations = 40.0;
+        r.params.iterations = 40;
         r.seed = 7;
         let a = c
             .plan(&r, T)
@@ -364,8 +390,8 @@ fn typed_errors_while_the_server_keeps_serving() {
         (
             PlanRequest {
                 params: PlanParams {
-                    iterations: f32::NAN,
-                    population: f32::INFINITY,
+                    iterations: u32::MAX,
+                    population: 1 << 25,
                     ..PlanParams::default()
                 },
                 ..req((1, v1b), [143, 57], [10, 16], Algorithm::ThetaStar)
@@ -385,7 +411,7 @@ fn typed_errors_while_the_server_keeps_serving() {
         still_serving(&mut c, (1, v1b));
     }
     let mut status = req((1, v1b), [0, 0], [0, 0], Algorithm::AStar);
-    status.kind = RequestKind::MapStatus as u8;
+    status.kind = RequestKind::MapStatus.code();
     assert!(c.plan(&status, T).is_ok());
 
     // SIGTERM: clean shutdown with exit status 0 and a final log line.
@@ -437,14 +463,7 @@ fn cli_prints_host_sim_json_lines() {
         .map(|l| serde_json::from_str(l).unwrap())
         .collect();
     assert_eq!(lines.len(), 4);
-    let keys =
-        |v: &serde_json::Value| -> Vec<String> { v.as_object().unwrap().keys().cloned().collect() };
-    assert_eq!(
-        keys(&lines[0]),
-        [
-            "start", "goal", "path", "length", "time_us", "turns", "expanded", "algo", "seed"
-        ]
-    );
+    assert_eq!(line_keys(&lines[0]), PLAN_LINE_KEYS);
     assert_eq!(
         lines[0]["path"],
         serde_json::json!([[143, 57], [135, 43], [25, 43], [10, 16]])
@@ -452,7 +471,7 @@ fn cli_prints_host_sim_json_lines() {
     assert_eq!(lines[0]["length"], serde_json::json!(157.0114));
     assert_eq!(lines[0]["algo"], "theta");
     assert_eq!(
-        keys(&lines[1]),
+        line_keys(&lines[1]),
         ["start", "goal", "error", "time_us", "algo", "seed"]
     );
     assert_eq!(lines[2]["error"], "MalformedQuery");
@@ -469,6 +488,35 @@ fn cli_prints_host_sim_json_lines() {
     server.signal("INT");
     let exit = server.wait_exit(T).expect("server ignored SIGINT");
     assert!(exit.success(), "{}", server.log_text());
+}
+
+/// Two `planner-client` runs upload different maps under the same map id: the second plans
+/// on its own map, not on the version the server already holds from the first.
+#[test]
+fn a_new_map_under_a_used_id_is_planned_on() {
+    let p = prefix("reupload");
+    let dir = scratch_dir(&p);
+    let _server = start_server(&p, &[]);
+    let (open, blocked) = (dir.join("open.map"), dir.join("blocked.map"));
+    write_map(&open, 3, 3, |_, _| false);
+    write_map(&blocked, 3, 3, |x, y| (x, y) == (2, 2));
+    let plan = |map: &std::path::Path| -> serde_json::Value {
+        let out = Command::new(env!("CARGO_BIN_EXE_ipc-test-client"))
+            .args(["--prefix", &p, "plan", "--map-id", "5", "--map"])
+            .arg(map)
+            .args(["--algo", "astar", "--start", "0,0", "--goal", "2,2"])
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        serde_json::from_slice(&out.stdout).unwrap()
+    };
+    assert_eq!(plan(&open)["length"], serde_json::json!(2.828427));
+    assert_eq!(plan(&blocked)["error"], "GoalOccupied");
+    assert_eq!(plan(&open)["length"], serde_json::json!(2.828427));
 }
 
 /// A 512 x 512 serpentine: Theta* from one corner to the other expands almost every cell,
@@ -694,12 +742,13 @@ fn a_map_over_the_default_limit_gets_a_typed_error_naming_the_limit() {
     );
     let header = MapHeader {
         map_id: 5,
-        version: 1,
+        map_version: 1,
         width: 4097,
         height: 4096,
         resolution: 0.05,
         origin: [0.0; 2],
         layout: LAYOUT_ROWS,
+        ..MapHeader::default()
     };
     c.publish_map(&header, &vec![0; header.words()]).unwrap();
     let by_server = c.wait_for_map(5, 1, T).unwrap_err();
@@ -781,12 +830,13 @@ fn kept_frames_outlive_their_publisher_and_verify_maps_checks_layouts() {
     }
     let header = MapHeader {
         map_id: 2,
-        version: 1,
+        map_version: 1,
         width: 40,
         height: 30,
         resolution: 0.05,
         origin: [0.0; 2],
         layout: LAYOUT_ROWS_AND_COLUMNS,
+        ..MapHeader::default()
     };
     c.publish_map(&header, &words).unwrap();
     c.wait_for_map(2, 1, T).unwrap();
@@ -821,7 +871,7 @@ fn kept_frames_outlive_their_publisher_and_verify_maps_checks_layouts() {
     }
     v.publish_map(
         &MapHeader {
-            version: 2,
+            map_version: 2,
             ..header
         },
         &words,
@@ -836,5 +886,45 @@ fn kept_frames_outlive_their_publisher_and_verify_maps_checks_layouts() {
     assert!(
         c.plan(&req((1, 1), [0, 0], [39, 29], Algorithm::AStar), T)
             .is_ok()
+    );
+}
+
+/// A foreign client that creates the plan service with iceoryx2's defaults before any
+/// server runs: the server refuses to start and its error names the cause.
+#[test]
+fn a_service_created_by_a_client_is_named_at_start_up() {
+    use iceoryx2::prelude::*;
+    let p = prefix("foreign");
+    let node = NodeBuilder::new()
+        .signal_handling_mode(SignalHandlingMode::Disabled)
+        .create::<ipc::Service>()
+        .unwrap();
+    let name = ServiceName::new(&format!("{p}/plan")).unwrap();
+    let _foreign = node
+        .service_builder(&name)
+        .request_response::<u64, u64>()
+        .open_or_create()
+        .unwrap();
+    let log = scratch_dir(&p).join("server.log");
+    let child = Command::new(env!("CARGO_BIN_EXE_ipc-test-server"))
+        .args(["--prefix", &p])
+        .stdout(std::process::Stdio::null())
+        .stderr(std::fs::File::create(&log).unwrap())
+        .spawn()
+        .unwrap();
+    let mut server = Proc {
+        child,
+        log: Some(log),
+    };
+    let status = server
+        .wait_exit(Duration::from_secs(20))
+        .expect("the server should refuse to start");
+    assert!(!status.success());
+    let text = server.log_text();
+    assert!(
+        text.contains(&format!("service \"{p}/plan\" exists"))
+            && text.contains("created by a client")
+            && text.contains("docs/wire.md"),
+        "{text}"
     );
 }

@@ -177,8 +177,8 @@ fn soak_mixed_load() {
             c.wait_for_map(id, version, Duration::from_secs(5)).unwrap();
             let algo = Algorithm::ALL[(r % Algorithm::ALL.len() as u64) as usize];
             let mut request = PlanRequest::new((id, version), [0, 0], [63, 63], algo);
-            request.params.population = 8.0;
-            request.params.iterations = 10.0;
+            request.params.population = 8;
+            request.params.iterations = 10;
             request.seed = r;
             match c.plan(&request, Duration::from_secs(5)) {
                 Ok(_) | Err(planner_ipc::client::ClientError::Plan(_)) => {}

@@ -1,5 +1,6 @@
-//! The ROS map_server loader from memory (`host_sim::mapsrc::ros::parse`): arbitrary YAML
-//! text and image bytes (PGM or PNG, often with a valid magic so the decoders are reached).
+//! The ROS map_server loader from memory (`planner_mapfile::ros::parse`, reached through
+//! `host_sim::mapfile`): arbitrary YAML text and image bytes (PGM or PNG, often with a valid
+//! magic so the decoders are reached).
 //! No panic and no huge allocation (a header announcing a big image is refused before
 //! decoding); every failure is a `RosMapError`; an accepted map has the image's size
 //! (rows of 1..=MAX_ROW_PIXELS, at most LIMIT cells), valid thresholds, a positive
@@ -7,7 +8,7 @@
 #![no_main]
 
 use arbitrary::{Arbitrary, Unstructured};
-use host_sim::mapsrc::ros::{self, MAX_ROW_PIXELS, RosMapError};
+use host_sim::mapfile::ros::{self, MAX_ROW_PIXELS, RosMapError};
 use libfuzzer_sys::fuzz_target;
 use std::path::Path;
 

@@ -1,8 +1,9 @@
-//! `host-sim maps`: the papers' seed-style maps as Moving AI `.map` files.
+//! `host-sim maps`: the papers' built-in maps (`planner_core::maps`: `Lei2024Warehouse`'s
+//! sparse and warehouse maps, `Liu2020Igwo`'s lab) as Moving AI `.map` files.
 
 use anyhow::Context;
 use planner_core::grid::words_for;
-use planner_core::maps::{MapKind, lab_20x20, seed000};
+use planner_core::maps::{MapKind, lab_20x20, lei2024_warehouse};
 use std::path::PathBuf;
 
 /// Arguments of `host-sim maps`.
@@ -14,7 +15,8 @@ pub struct MapsArgs {
 }
 
 /// Writes `seed000-{sparse,warehouse}-{10,30,40}.map` and `seed003-lab-20x20.map`, with the
-/// start and goal in a comment file beside them.
+/// start and goal in a comment file beside them. The file names keep the seed numbers of the
+/// table atop `docs/references.md` (000: `Lei2024Warehouse`, 003: `Liu2020Igwo`).
 pub fn run(args: &MapsArgs) -> anyhow::Result<()> {
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("cannot create {}", args.out.display()))?;
@@ -34,7 +36,7 @@ pub fn run(args: &MapsArgs) -> anyhow::Result<()> {
     };
     for kind in [MapKind::Sparse, MapKind::Warehouse] {
         for size in [10, 30, 40] {
-            let m = seed000::<{ words_for(40, 40) }>(kind, size)
+            let m = lei2024_warehouse::<{ words_for(40, 40) }>(kind, size)
                 .map_err(|e| anyhow::anyhow!("{e:?}"))?;
             write(
                 format!("seed000-{}-{size}.map", kind.name()),

@@ -23,7 +23,7 @@ pub const MAX_DIM: usize = 128;
 /// Arguments of `host-sim optimize`.
 #[derive(clap::Args, Debug, Clone)]
 pub struct OptimizeArgs {
-    /// Function: f1..f11 (seed 003 table 1; f12 is illegible there) or sphere, rastrigin,
+    /// Function: f1..f11 (Liu2020Igwo table 1; f12 is illegible there) or sphere, rastrigin,
     /// rosenbrock, ackley (shifted by --shift).
     #[arg(long)]
     pub function: String,
@@ -156,7 +156,7 @@ pub fn run(args: &OptimizeArgs) -> anyhow::Result<()> {
 fn execute(args: &OptimizeArgs) -> anyhow::Result<Output> {
     let kind: FunctionKind = args.function.parse().map_err(|_| {
         if args.function == "f12" {
-            anyhow!("function `f12`: seed 003 table 1 lost its definition (only its optimum 2.471 is printed)")
+            anyhow!("function `f12`: Liu2020Igwo's table 1 lost its definition (only its optimum 2.471 is printed)")
         } else {
             anyhow!("unknown function `{}` (f1..f11, sphere, rastrigin, rosenbrock, ackley)", args.function)
         }

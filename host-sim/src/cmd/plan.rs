@@ -34,7 +34,6 @@
 //! line), 2 for bad input (map, query file, options).
 
 use crate::exit::bad;
-use crate::mapsrc::{Frame, MapOptions, load_map};
 use anyhow::Context;
 use clap::ValueEnum;
 use planner_core::PlanError;
@@ -44,9 +43,12 @@ use planner_core::grid::GridBuf;
 use planner_core::optim::any::AlgorithmKind;
 use planner_core::path::{Path, PathView};
 use planner_core::planner::aco::AcoParams;
-use planner_core::planner::owned::HostPlanner;
-use planner_core::planner::{EncodingKind, GuideKind, InitKind, PlanParams, PlannerKind};
+use planner_core::planner::owned::{HostPlanner, PlanChoice};
+use planner_core::planner::{
+    Blend, EncodingKind, GuideKind, InitKind, PlanOptions, PlanParams, PlannerKind,
+};
 use planner_ipc::jsonl::{self, Endpoint, ErrorLine, LineContext, QueryLine};
+use planner_mapfile::{Frame, MapOptions, load_map};
 use serde_json::{Value, json};
 use std::io::{BufWriter, Write};
 use std::path::PathBuf;
@@ -111,13 +113,13 @@ pub struct SwarmArgs {
     /// iteration, as the papers do).
     #[arg(long, default_value_t = planner_core::planner::HOST_STAGNATION)]
     pub stagnation: u32,
-    /// Path encoding: corridor (any map), column (seed 000), walk (seed 003).
+    /// Path encoding: corridor (any map), column (Lei2024Warehouse), walk (Liu2020Igwo).
     #[arg(long, value_enum, default_value_t = EncodingArg::Corridor)]
     pub encoding: EncodingArg,
     /// Initial population: the optimizer's own, or the patent's diffusion (column encoding).
     #[arg(long, value_enum, default_value_t = InitArg::Optimizer)]
     pub init: InitArg,
-    /// Corner rule of the walk encoding (loose = seed 003's literal rule).
+    /// Corner rule of the walk encoding (loose = Liu2020Igwo's literal rule).
     #[arg(long, value_enum, default_value_t = CornerArg::Strict)]
     pub corner_rule: CornerArg,
     /// Skip the patent's node pruning.
@@ -135,6 +137,25 @@ pub struct SwarmArgs {
     /// Walk encoding: maximum steps.
     #[arg(long)]
     pub walk_steps: Option<usize>,
+    /// Blended objective (corridor encoding): desired clearance from obstacles, in cells of
+    /// the grid planned on (on an inflated map, the margin beyond the robot); 0: none.
+    #[arg(long, default_value_t = 0.0, value_parser = non_negative)]
+    pub clearance: f32,
+    /// Blended objective: cost (cells) per cell of path per cell of missing clearance.
+    #[arg(long, default_value_t = 4.0, value_parser = non_negative)]
+    pub clearance_weight: f32,
+    /// Blended objective: cost (cells) per radian of turning, plus a quarter radian per turn;
+    /// 0: none.
+    #[arg(long, default_value_t = 0.0, value_parser = non_negative)]
+    pub turn_weight: f32,
+}
+
+/// A finite number at or above 0 (the blended objective's options).
+fn non_negative(text: &str) -> Result<f32, String> {
+    match text.parse::<f32>() {
+        Ok(v) if v.is_finite() && v >= 0.0 => Ok(v),
+        _ => Err(format!("{text:?}: must be a finite number at or above 0")),
+    }
 }
 
 /// `--guide` values.
@@ -161,9 +182,9 @@ impl GuideArg {
 pub enum EncodingArg {
     /// Waypoints across an exact guide route (any map).
     Corridor,
-    /// Seed 000's column encoding.
+    /// Lei2024Warehouse's column encoding.
     Column,
-    /// Seed 003's 8-connected walk.
+    /// Liu2020Igwo's 8-connected walk.
     Walk,
 }
 
@@ -181,7 +202,7 @@ pub enum InitArg {
 pub enum CornerArg {
     /// No corner cutting (SPEC).
     Strict,
-    /// Seed 003's rule.
+    /// Liu2020Igwo's rule.
     Loose,
 }
 
@@ -212,6 +233,11 @@ impl SwarmArgs {
             corridor_radius: self.corridor_radius.unwrap_or(base.corridor_radius),
             guide: self.guide.kind(),
             walk_steps: self.walk_steps.unwrap_or(base.walk_steps),
+            blend: Blend {
+                clearance: self.clearance,
+                clearance_weight: self.clearance_weight,
+                turn_weight: self.turn_weight,
+            },
             ..base
         };
         let aco_base = AcoParams::default();
@@ -239,7 +265,7 @@ fn parse_planner(text: &str) -> Result<PlannerKind, String> {
 
 /// `X,Y` in the frame asked for: integers for cells, numbers for metres.
 pub fn endpoint(text: &str, frame: Frame, what: &str) -> anyhow::Result<Endpoint> {
-    let [x, y] = crate::mapsrc::frame::parse_point(text)
+    let [x, y] = planner_mapfile::frame::parse_point(text)
         .map_err(|e| bad(format!("--{what} {text}: {e}")))?;
     match frame {
         Frame::World => Ok(Endpoint::World([x, y])),
@@ -391,14 +417,18 @@ impl PreparedMap {
         let out: &mut PathView = &mut *self.path;
         let outcome = self.planner.plan(
             self.grid.view(),
-            kind,
             start,
             goal,
-            params,
-            aco,
+            &PlanChoice {
+                kind,
+                params: *params,
+                aco: *aco,
+            },
             out,
-            history,
-            &mut || false,
+            PlanOptions {
+                history,
+                interrupt: None,
+            },
         )?;
         Ok(PlanSummary {
             path: out.iter().map(|p| [p.x, p.y]).collect(),

@@ -9,7 +9,6 @@
 //! blocked block) and `convergence.{png,svg}` (two made-up
 //! decreasing series, titled as such).
 
-use crate::mapsrc::{MapOptions, load_map};
 use crate::render::{
     Disc, FieldPicture, Layer, MapPicture, Marker, Series, Shape, Style, convergence_plot,
 };
@@ -19,6 +18,7 @@ use planner_core::grid::{GridBuf, GridRef};
 use planner_core::path::{Path, PathView};
 use planner_core::search::astar::{AStarNode, OpenSlot, open_capacity};
 use planner_core::search::{SearchNode, astar, theta};
+use planner_mapfile::{MapOptions, load_map};
 use std::path::PathBuf;
 
 /// Arguments of `host-sim render-demo`.

@@ -1,6 +1,6 @@
 //! `host-sim serve` (hidden): the planner service inside this binary, so that `demo`, `run`
-//! and `soak --planner ipc` can start a server when none is running without a separate
-//! build (see `sim::ipc`).
+//! and `soak --planner ipc|zenoh` can start a server when none is running without a
+//! separate build (see `sim::ipc` and `sim::zenoh`).
 
 use std::io::Read;
 
@@ -13,6 +13,10 @@ pub struct ServeArgs {
     /// Shut down when standard input closes (the parent process ended or let go).
     #[arg(long)]
     pub exit_on_stdin_eof: bool,
+    /// More `planner-server` options, after `--` (`-- --transport zenoh --listen
+    /// tcp/127.0.0.1:7447`; what `--planner zenoh` starts).
+    #[arg(last = true)]
+    pub server_options: Vec<String>,
 }
 
 /// Serves until SIGINT or SIGTERM (or the end of standard input with
@@ -28,5 +32,7 @@ pub fn run(args: &ServeArgs) -> anyhow::Result<()> {
             let _ = signal_hook::low_level::raise(signal_hook::consts::SIGTERM);
         });
     }
-    planner_ipc::cli::server::serve_prefix(&args.prefix)
+    let mut options = vec!["--prefix".to_string(), args.prefix.clone()];
+    options.extend(args.server_options.iter().cloned());
+    planner_ipc::cli::server::serve_with(options)
 }

@@ -1,7 +1,7 @@
 //! The simulator commands: `demo`, `run`, `scenarios`, `soak`.
 //!
 //! ```text
-//! host-sim demo [--out DIR] [--planner ipc|inproc]
+//! host-sim demo [--out DIR] [--planner ipc|inproc|zenoh]
 //! host-sim run [--map FILE.map|FILE.yaml | layout options] --algo NAME [--robots K] [--people K] [--seed S]
 //!              [--start X,Y --goal X,Y [--frame cells|world]] [--robot-radius M] [--max-speed M/S]
 //!              [--max-accel M/S2] [--unknown blocked|free] [--out DIR]
@@ -21,21 +21,25 @@
 
 use super::bench::{fmt, print_table, progress, write_json};
 use crate::exit::{MissionFailed, bad};
-use crate::mapsrc::{self, Frame, MapFrame, MapOptions, warehouse};
 use crate::sim::mission::{self, MissionResult, MissionSpec, Outcome};
-use crate::sim::planner::{GlobalPlanner, InProcess, PlanFailure, PlanRequest, PlannerChoice};
+use crate::sim::planner::{
+    GlobalPlanRequest, GlobalPlanner, InProcess, PlanFailure, PlannerChoice,
+};
 use crate::sim::report::MapLook;
 use crate::sim::robot::Robot;
+use crate::sim::safety::SafetyArgs;
 use crate::sim::scenarios::{self, mission_params};
 use crate::sim::site::Site;
 use crate::sim::{kinematics::DiffDrive, report};
+use crate::warehouse_gen;
 use anyhow::{Context, bail};
 use planner_core::dwa::{DwaConfig, DwaState};
 use planner_core::geometry::Cell;
 use planner_core::grid::{GridBuf, GridRef, words_for};
-use planner_core::maps::{MapKind, seed000};
+use planner_core::maps::{MapKind, lei2024_warehouse};
 use planner_core::planner::PlannerKind;
 use planner_ipc::jsonl::Endpoint;
+use planner_mapfile::{Frame, MapFrame, MapOptions};
 use rand_core::{Rng, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
 use serde_json::json;
@@ -51,13 +55,17 @@ pub struct DemoArgs {
     /// Output directory.
     #[arg(long, default_value = "bench-out/demo")]
     pub out: PathBuf,
-    /// Global planner: ipc (planner-server over iceoryx2, started if none runs) or inproc
-    /// (planner-core in this process).
+    /// Global planner: ipc (planner-server over iceoryx2, started if none runs), inproc
+    /// (planner-core in this process) or zenoh (planner-server over Zenoh at
+    /// tcp/127.0.0.1:7447, started if none answers; feature `zenoh`).
     #[arg(long, value_enum, default_value_t = PlannerChoice::Ipc)]
     pub planner: PlannerChoice,
     /// Seed of the planner and of the people and robots.
     #[arg(long, default_value_t = 7)]
     pub seed: u64,
+    /// Static margin and protective field.
+    #[command(flatten)]
+    pub safety: SafetyArgs,
 }
 
 /// Arguments of `host-sim run`.
@@ -102,15 +110,19 @@ pub struct RunArgs {
     /// Robot acceleration limit (m/s^2, or cells/s^2 on a map without a world frame).
     #[arg(long, default_value_t = Robot::AMR.max_accel)]
     pub max_accel: f32,
+    /// Static margin and protective field.
+    #[command(flatten)]
+    pub safety: SafetyArgs,
     /// Output directory.
     #[arg(long, default_value = "bench-out/run")]
     pub out: PathBuf,
-    /// Global planner: ipc (planner-server over iceoryx2, started if none runs) or inproc.
+    /// Global planner: ipc (planner-server over iceoryx2, started if none runs), inproc, or
+    /// zenoh (over Zenoh at tcp/127.0.0.1:7447, started if none answers; feature `zenoh`).
     #[arg(long, value_enum, default_value_t = PlannerChoice::Ipc)]
     pub planner: PlannerChoice,
     /// Layout of the generated warehouse (without `--map`).
     #[command(flatten)]
-    pub layout: warehouse::WarehouseParams,
+    pub layout: warehouse_gen::WarehouseParams,
     /// Size limit and unknown space of the loaded or generated map.
     #[command(flatten)]
     pub limits: MapOptions,
@@ -137,13 +149,16 @@ pub struct ScenariosArgs {
     /// Global planner: inproc (planner-core in this process) or ipc (over iceoryx2).
     #[arg(long, value_enum, default_value_t = PlannerChoice::Inproc)]
     pub planner: PlannerChoice,
+    /// Static margin and protective field.
+    #[command(flatten)]
+    pub safety: SafetyArgs,
 }
 
 /// Arguments of `host-sim soak`.
 #[derive(clap::Args, Debug)]
 pub struct SoakArgs {
     /// Missions to run.
-    #[arg(long, default_value_t = 500)]
+    #[arg(long, default_value_t = 1000)]
     pub missions: usize,
     /// First seed (mission `i` uses `seed + i`).
     #[arg(long, default_value_t = 0)]
@@ -157,9 +172,12 @@ pub struct SoakArgs {
     /// Global planner: inproc (planner-core in this process) or ipc (over iceoryx2).
     #[arg(long, value_enum, default_value_t = PlannerChoice::Inproc)]
     pub planner: PlannerChoice,
-    /// Required success rate (exit status 1 below it).
-    #[arg(long, default_value_t = 0.99)]
+    /// Required success rate (exit status 3 below it, as for contacts and margins).
+    #[arg(long, default_value_t = 0.995)]
     pub min_success: f64,
+    /// Static margin and protective field.
+    #[command(flatten)]
+    pub safety: SafetyArgs,
 }
 
 fn pose(cell: Cell, theta: f32) -> DwaState {
@@ -197,11 +215,11 @@ fn run_with_bar(
     out: &Path,
 ) -> anyhow::Result<MissionResult> {
     std::fs::create_dir_all(out).with_context(|| format!("cannot create {}", out.display()))?;
-    if choice == PlannerChoice::Ipc {
-        println!("connecting to planner-server over iceoryx2 (starting one if none runs) ...");
+    if let Some(transport) = choice.transport() {
+        println!("connecting to planner-server over {transport} (starting one if none runs) ...");
     }
     let mut planner = choice.build(Some(&out.join("planner-server.log")))?;
-    if choice == PlannerChoice::Ipc {
+    if let Some(transport) = choice.transport() {
         // A map the service refuses is the user's to change: bad input, with the way out.
         let grid = spec.plan_grid.as_ref().unwrap_or(&spec.grid);
         if let Err(PlanFailure::MapTooLarge(why)) = planner.set_map(grid.view()) {
@@ -209,7 +227,7 @@ fn run_with_bar(
                 "MapTooLarge: {why}; --planner inproc plans any map within --max-cells"
             )));
         }
-        println!("global planner: {} over iceoryx2", spec.algo.name());
+        println!("global planner: {} over {transport}", spec.algo.name());
     }
     let bar = progress(100, "driving");
     let result = mission::run_with_progress(spec, &mut *planner, &mut |t, limit| {
@@ -221,7 +239,7 @@ fn run_with_bar(
 }
 
 /// The service does not send the planner's per-iteration history: when the first plan came
-/// over iceoryx2, the same request (same seed) is planned again in this process for the
+/// over a transport (iceoryx2, Zenoh), the same request (same seed) is planned again in this process for the
 /// convergence plot, and the JSON says whether both gave the same path length.
 fn convergence_in_process(
     spec: &MissionSpec,
@@ -241,7 +259,7 @@ fn convergence_in_process(
         .set_map(spec.plan_grid.as_ref().unwrap_or(&spec.grid).view())
         .map_err(anyhow::Error::msg)?;
     let p = local
-        .plan(&PlanRequest {
+        .plan(&GlobalPlanRequest {
             start,
             goal: spec.goal,
             algo: spec.algo,
@@ -261,11 +279,12 @@ fn convergence_in_process(
 
 /// `host-sim demo`.
 pub fn demo(args: &DemoArgs) -> anyhow::Result<()> {
-    let map = seed000::<{ words_for(40, 40) }>(MapKind::Warehouse, 40)
+    let safety = args.safety.safety().map_err(|e| bad(e.to_string()))?;
+    let map = lei2024_warehouse::<{ words_for(40, 40) }>(MapKind::Warehouse, 40)
         .map_err(|e| anyhow::anyhow!("{e:?}"))?;
     let grid = GridBuf::from_view(map.grid.view());
     let spec = MissionSpec {
-        name: "demo: seed-000 warehouse 40x40".into(),
+        name: "demo: Lei2024Warehouse's 40x40 warehouse".into(),
         grid,
         plan_grid: None,
         metres_per_cell: 1.0,
@@ -277,13 +296,13 @@ pub fn demo(args: &DemoArgs) -> anyhow::Result<()> {
         agents: Vec::new(),
         people: 3,
         robots: 2,
-        dwa: DwaConfig::default(),
+        dwa: safety.apply(DwaConfig::default(), 1.0),
         drive: DiffDrive::default(),
         time_limit: None,
         record: true,
     };
     println!(
-        "demo: 40x40 seed-000 warehouse, TCLHHO global planner ({}), DWA, 3 people and 2 robots moving",
+        "demo: Lei2024Warehouse's 40x40 warehouse, TCLHHO global planner ({}), DWA, 3 people and 2 robots moving",
         args.planner.name()
     );
     let mut result = run_with_bar(&spec, args.planner, &args.out)?;
@@ -359,6 +378,7 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
         max_accel: args.max_accel,
     };
     robot.check().map_err(|e| bad(e.to_string()))?;
+    let safety = args.safety.safety().map_err(|e| bad(e.to_string()))?;
     let mut rng = Xoshiro256PlusPlus::seed_from_u64(args.seed);
     let (start, goal) = match (&args.start, &args.goal) {
         (Some(s), Some(g)) => {
@@ -388,10 +408,10 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
     let theta = (rng.next_u32() % 8) as f32 * std::f32::consts::FRAC_PI_4;
     let k = 1.0 / mpc;
     let (dwa, drive) = if declared {
-        (robot.dwa(k), robot.drive(k))
+        (safety.apply(robot.dwa(k), k), robot.drive(k))
     } else {
         // A cell counts as a metre: the defaults, with the robot's figures.
-        (robot.dwa(1.0), robot.drive(1.0))
+        (safety.apply(robot.dwa(1.0), 1.0), robot.drive(1.0))
     };
     let spec = MissionSpec {
         name: name.clone(),
@@ -417,8 +437,8 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
             let [x, y] = site.frame.to_world(c.x as f64, c.y as f64);
             format!(
                 "({}, {}) m",
-                mapsrc::frame::metres(x),
-                mapsrc::frame::metres(y)
+                planner_mapfile::frame::metres(x),
+                planner_mapfile::frame::metres(y)
             )
         } else {
             format!("({}, {})", c.x, c.y)
@@ -432,7 +452,7 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
         if declared {
             format!(
                 ", {} m a cell",
-                mapsrc::frame::metres(site.frame.resolution)
+                planner_mapfile::frame::metres(site.frame.resolution)
             )
         } else {
             String::new()
@@ -492,11 +512,11 @@ type Stations = Vec<(Cell, &'static str)>;
 fn run_site(args: &RunArgs) -> anyhow::Result<(Site, String, Stations)> {
     let (grid, unknown, frame, name, stations) = match &args.map {
         Some(path) => {
-            let m = mapsrc::load_map(path, &args.limits)?;
+            let m = planner_mapfile::load_map(path, &args.limits)?;
             (m.grid, m.unknown, m.frame, m.name, Vec::new())
         }
         None => {
-            let w = warehouse::generate(&args.layout, &args.limits)?;
+            let w = warehouse_gen::generate(&args.layout, &args.limits)?;
             let mut st: Vec<(Cell, &'static str)> =
                 w.picks.iter().map(|c| (*c, "pick station")).collect();
             st.extend(w.chargers.iter().map(|c| (*c, "charging station")));
@@ -552,12 +572,14 @@ pub fn scenarios(args: &ScenariosArgs) -> anyhow::Result<()> {
             all.iter().map(|s| s.name).collect::<Vec<_>>().join(", ")
         );
     }
+    let safety = args.safety.safety().map_err(|e| bad(e.to_string()))?;
     let mut rows = Vec::new();
     let mut failed = 0;
     let mut planner = args.planner.build(None)?;
     let planner = &mut planner;
     for sc in chosen {
-        let spec = sc.mission(args.algo, 1)?;
+        let mut spec = sc.mission(args.algo, 1)?;
+        spec.dwa = safety.apply(spec.dwa, 1.0);
         let r = mission::run(&spec, &mut **planner);
         let pass = sc.passes(&r.outcome, r.collisions_static + r.collisions_dynamic);
         failed += usize::from(!pass);
@@ -604,6 +626,7 @@ pub fn scenarios(args: &ScenariosArgs) -> anyhow::Result<()> {
 
 /// `host-sim soak`.
 pub fn soak(args: &SoakArgs) -> anyhow::Result<()> {
+    let safety = args.safety.safety().map_err(|e| bad(e.to_string()))?;
     let bar = progress(args.missions as u64, "soak missions");
     let mut results = Vec::with_capacity(args.missions);
     let mut planner = args.planner.build(None)?;
@@ -613,7 +636,7 @@ pub fn soak(args: &SoakArgs) -> anyhow::Result<()> {
         let pick = |rng: &mut Xoshiro256PlusPlus, lo: usize, hi: usize| {
             lo + (rng.next_u64() % (hi - lo + 1) as u64) as usize
         };
-        let layout = warehouse::WarehouseParams {
+        let layout = warehouse_gen::WarehouseParams {
             width: pick(&mut rng, 24, 60),
             height: pick(&mut rng, 20, 48),
             shelf_depth: pick(&mut rng, 1, 2),
@@ -623,7 +646,7 @@ pub fn soak(args: &SoakArgs) -> anyhow::Result<()> {
             margin: pick(&mut rng, 1, 3),
             chargers: 3,
         };
-        let w = warehouse::generate(&layout, &MapOptions::default())?;
+        let w = warehouse_gen::generate(&layout, &MapOptions::default())?;
         let mut stations = w.picks.clone();
         stations.extend(&w.chargers);
         let (start, goal) = random_pair(w.grid.view(), &mut rng, &stations, 10.0)?;
@@ -641,7 +664,7 @@ pub fn soak(args: &SoakArgs) -> anyhow::Result<()> {
             agents: Vec::new(),
             people: pick(&mut rng, 0, 4),
             robots: pick(&mut rng, 0, 3),
-            dwa: DwaConfig::default(),
+            dwa: safety.apply(DwaConfig::default(), 1.0),
             drive: DiffDrive::default(),
             time_limit: None,
             record: false,
@@ -679,6 +702,12 @@ pub fn soak(args: &SoakArgs) -> anyhow::Result<()> {
         .count();
     let cs: u32 = results.iter().map(|(_, r)| r.collisions_static).sum();
     let cd: u32 = results.iter().map(|(_, r)| r.collisions_dynamic).sum();
+    let cm: u32 = results.iter().map(|(_, r)| r.contacts_moving).sum();
+    let min_static = results
+        .iter()
+        .map(|(_, r)| r.min_clearance_static as f64)
+        .fold(f64::INFINITY, f64::min);
+    let floor = 0.5 * safety.shelf_margin as f64;
     let arrived: Vec<&MissionResult> = results
         .iter()
         .map(|(_, r)| r)
@@ -698,10 +727,13 @@ pub fn soak(args: &SoakArgs) -> anyhow::Result<()> {
         "timeouts": timeouts,
         "collisions_static": cs,
         "collisions_dynamic": cd,
+        "contacts_moving": cm,
+        "safety": safety,
         "mean_time_to_goal_s": mean(&|r| r.time_to_goal.unwrap_or(0.0) as f64),
         "mean_length_ratio": mean(&|r| r.length_ratio as f64),
         "mean_rms_cross_track": mean(&|r| r.rms_cross_track as f64),
-        "min_clearance_static": results.iter().map(|(_, r)| r.min_clearance_static as f64).fold(f64::INFINITY, f64::min),
+        "min_clearance_static": min_static,
+        "missions_below_half_margin": results.iter().filter(|(_, r)| (r.min_clearance_static as f64) < floor).count(),
         "replans": results.iter().map(|(_, r)| r.replans).sum::<u32>(),
         "stuck_events": results.iter().map(|(_, r)| r.stuck_events).sum::<u32>(),
         "oscillation_events": results.iter().map(|(_, r)| r.oscillation_events).sum::<u32>(),
@@ -722,6 +754,7 @@ pub fn soak(args: &SoakArgs) -> anyhow::Result<()> {
             "timeouts",
             "coll. static",
             "coll. dynamic",
+            "moving",
             "mean time s",
             "driven/planned",
             "RMS xte",
@@ -737,6 +770,7 @@ pub fn soak(args: &SoakArgs) -> anyhow::Result<()> {
             timeouts.to_string(),
             cs.to_string(),
             cd.to_string(),
+            cm.to_string(),
             fmt(
                 summary["mean_time_to_goal_s"].as_f64().unwrap_or(f64::NAN),
                 1,
@@ -756,11 +790,15 @@ pub fn soak(args: &SoakArgs) -> anyhow::Result<()> {
         ]],
     );
     println!("report: {}", args.out.join("report.json").display());
-    if rate < args.min_success || cs > 0 {
-        bail!(
-            "soak below target: success {:.1}%, {cs} static collisions",
-            100.0 * rate
-        );
+    if rate < args.min_success || cs > 0 || cm > 0 || min_static < floor {
+        return Err(MissionFailed(format!(
+            "soak below target: success {:.1}% (at least {:.1}%), {cs} static collisions, \
+             {cm} contacts while moving, min static clearance {min_static:.3} (at least half \
+             the margin, {floor:.3})",
+            100.0 * rate,
+            100.0 * args.min_success
+        ))
+        .into());
     }
     Ok(())
 }

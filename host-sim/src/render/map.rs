@@ -6,11 +6,11 @@ use super::{
     Disc, Figure, GOAL_COLOR, Layer, Marker, Rgb, START_COLOR, Shape, Style, drawing_error,
     ensure_font, font, nice_step, rgb, text_size, write_png, write_svg,
 };
-use crate::mapsrc::MapFrame;
-use crate::mapsrc::frame::metres;
 use anyhow::bail;
 use planner_core::geometry::Point;
 use planner_core::grid::GridRef;
+use planner_mapfile::MapFrame;
+use planner_mapfile::frame::metres;
 use plotters::coord::Shift;
 use plotters::element::DashedPathElement;
 use plotters::prelude::*;

@@ -7,7 +7,7 @@
 //! process: when the planner is dropped the child gets SIGTERM, and if this process dies
 //! the pipe closes and the child shuts itself down.
 
-use super::planner::{GlobalPlanner, PlanFailure, PlanRequest, PlannedPath};
+use super::planner::{GlobalPlanRequest, GlobalPlanner, PlanFailure, PlannedPath};
 use planner_core::geometry::Cell;
 use planner_core::grid::GridRef;
 use planner_core::planner::PlannerKind;
@@ -137,7 +137,7 @@ impl IpcPlanner {
     fn server_answers(&mut self, within: Duration) -> bool {
         let deadline = Instant::now() + within;
         let mut probe = wire::PlanRequest::new((u32::MAX, 1), [0, 0], [0, 0], Algorithm::AStar);
-        probe.kind = wire::RequestKind::MapStatus as u8;
+        probe.kind = wire::RequestKind::MapStatus.code();
         loop {
             if let Some((child, _)) = self.server.as_mut()
                 && let Ok(Some(_)) = child.try_wait()
@@ -178,6 +178,28 @@ impl Drop for IpcPlanner {
     }
 }
 
+/// The planner service's request for a simulator request on map `(id, version)`.
+pub(crate) fn wire_request(
+    request: &GlobalPlanRequest,
+    map: (u32, u32),
+) -> Result<wire::PlanRequest, PlanFailure> {
+    let algorithm = Algorithm::ALL
+        .into_iter()
+        .find(|a| a.kind() == request.algo)
+        .ok_or_else(|| PlanFailure::Transport(format!("{} is not served", request.algo.name())))?;
+    let cell = |c: Cell| [c.x as i32, c.y as i32];
+    let mut r = wire::PlanRequest::new(map, cell(request.start), cell(request.goal), algorithm);
+    r.seed = request.seed;
+    if matches!(request.algo, PlannerKind::Swarm(_)) {
+        // Counts beyond the wire's range are refused by the server as InvalidParameters.
+        r.params.population = u32::try_from(request.params.population).unwrap_or(u32::MAX);
+        r.params.iterations = request.params.iterations;
+        r.params.stagnation = request.params.stagnation.unwrap_or(0);
+        r.params.guide = wire::Guide::of(request.params.guide).code();
+    }
+    Ok(r)
+}
+
 fn failure(e: ClientError) -> PlanFailure {
     match e {
         ClientError::Plan(p) => p.into(),
@@ -202,30 +224,12 @@ impl GlobalPlanner for IpcPlanner {
         self.client.upload_map(meta, grid).map_err(failure)?;
         self.client
             .wait_for_map(MAP_ID, self.version, self.timeout)
-            .map_err(failure)
+            .map_err(failure)?;
+        Ok(())
     }
 
-    fn plan(&mut self, request: &PlanRequest) -> Result<PlannedPath, PlanFailure> {
-        let algorithm = Algorithm::ALL
-            .into_iter()
-            .find(|a| a.kind() == request.algo)
-            .ok_or_else(|| {
-                PlanFailure::Transport(format!("{} is not served", request.algo.name()))
-            })?;
-        let cell = |c: Cell| [c.x as i32, c.y as i32];
-        let mut r = wire::PlanRequest::new(
-            (MAP_ID, self.version),
-            cell(request.start),
-            cell(request.goal),
-            algorithm,
-        );
-        r.seed = request.seed;
-        if matches!(request.algo, PlannerKind::Swarm(_)) {
-            r.params.population = request.params.population as f32;
-            r.params.iterations = request.params.iterations as f32;
-            r.params.extra[0] = request.params.stagnation.unwrap_or(0) as f32;
-            r.params.extra[1] = wire::PlanParams::guide_code(request.params.guide);
-        }
+    fn plan(&mut self, request: &GlobalPlanRequest) -> Result<PlannedPath, PlanFailure> {
+        let r = wire_request(request, (MAP_ID, self.version))?;
         let t0 = Instant::now();
         let ok = self.client.plan(&r, self.timeout).map_err(failure)?;
         Ok(PlannedPath {

@@ -3,10 +3,10 @@
 
 use super::kinematics::DiffDrive;
 use super::pathfit::{self, FitParams};
-use super::planner::{GlobalPlanner, PlanFailure, PlanRequest, PlannedPath};
+use super::planner::{GlobalPlanRequest, GlobalPlanner, PlanFailure, PlannedPath};
 use super::world::{Agent, Kind, World};
-use planner_core::dwa::{Dwa, DwaConfig, DwaState, Event, distance_to_polyline, point_clearance};
-use planner_core::geometry::{Cell, Point};
+use planner_core::dwa::{Dwa, DwaConfig, DwaState, Event};
+use planner_core::geometry::{Cell, Point, distance_to_polyline, point_clearance};
 use planner_core::grid::GridBuf;
 use planner_core::planner::{PlanParams, PlannerKind};
 
@@ -107,6 +107,9 @@ pub struct MissionResult {
     pub collisions_static: u32,
     /// Contacts with dynamic obstacles (episodes).
     pub collisions_dynamic: u32,
+    /// Of those, episodes during which the robot moved (faster than 5 cm/s at some step): a
+    /// person walking into a standing robot is not one.
+    pub contacts_moving: u32,
     /// Simulated time to the goal (s).
     pub time_to_goal: Option<f32>,
     /// Simulated time (s).
@@ -123,6 +126,9 @@ pub struct MissionResult {
     pub max_cross_track: f32,
     /// Smallest clearance between the footprint and a static obstacle (m).
     pub min_clearance_static: f32,
+    /// The same at the start pose (m): where the start is closer than the margin, the robot
+    /// keeps what it has there.
+    pub start_clearance_static: f32,
     /// Smallest clearance between the footprint and a dynamic obstacle (m).
     pub min_clearance_dynamic: Option<f32>,
     /// Replans after the first plan.
@@ -177,7 +183,7 @@ fn path_blocked(
     (radius, slack): (f32, f32),
     ahead: f32,
 ) -> bool {
-    // Walk the path from the segment nearest the robot.
+    // Follow the path from the segment nearest the robot.
     let mut best = (f32::INFINITY, 0usize);
     for (i, s) in path.windows(2).enumerate() {
         let d = distance_to_polyline(robot, s);
@@ -230,6 +236,7 @@ pub fn run_with_progress(
         success: false,
         collisions_static: 0,
         collisions_dynamic: 0,
+        contacts_moving: 0,
         time_to_goal: None,
         sim_time: 0.0,
         driven_length: 0.0,
@@ -238,6 +245,9 @@ pub fn run_with_progress(
         rms_cross_track: 0.0,
         max_cross_track: 0.0,
         min_clearance_static: f32::INFINITY,
+        start_clearance_static: mpc
+            * (point_clearance(grid, spec.start.position(), spec.dwa.radius + 5.0 * k)
+                - spec.dwa.radius),
         min_clearance_dynamic: None,
         replans: 0,
         stuck_events: 0,
@@ -246,7 +256,7 @@ pub fn run_with_progress(
         trajectory: Vec::new(),
         agents: Vec::new(),
     };
-    let request = |start: Cell, seed: u64| PlanRequest {
+    let request = |start: Cell, seed: u64| GlobalPlanRequest {
         start,
         goal: spec.goal,
         algo: spec.algo,
@@ -297,6 +307,7 @@ pub fn run_with_progress(
     let mut on_temp_map = false;
     let mut in_static = false;
     let mut in_dynamic = false;
+    let mut moved_in_contact = false;
     let mut sq_sum = 0.0f64;
     let mut samples = 0u64;
     let mut replan_seed = spec.seed;
@@ -426,8 +437,13 @@ pub fn run_with_progress(
         if cd < -1e-4 {
             if !in_dynamic {
                 result.collisions_dynamic += 1;
+                moved_in_contact = false;
             }
             in_dynamic = true;
+            if state.v.abs() > 0.05 * k && !moved_in_contact {
+                moved_in_contact = true;
+                result.contacts_moving += 1;
+            }
         } else {
             in_dynamic = false;
         }

@@ -12,8 +12,7 @@
 //! In a one-cell aisle the gradient vanishes on the centre line, so the path settles in the
 //! middle of the aisle; round a shelf end it swings out.
 
-use planner_core::dwa::point_clearance;
-use planner_core::geometry::Point;
+use planner_core::geometry::{Point, point_clearance};
 use planner_core::grid::GridRef;
 
 /// Parameters of [`fit`].

@@ -8,13 +8,14 @@ use planner_core::geometry::{Cell, Point};
 use planner_core::grid::{GridBuf, GridRef};
 use planner_core::path::{Path, PathView};
 use planner_core::planner::aco::AcoParams;
-use planner_core::planner::owned::HostPlanner;
-use planner_core::planner::{PlanParams, PlannerKind};
+use planner_core::planner::owned::{HostPlanner, PlanChoice};
+use planner_core::planner::{PlanOptions, PlanParams, PlannerKind};
 use std::time::{Duration, Instant};
 
-/// One plan request.
+/// One request to a [`GlobalPlanner`]. The planner service's request is another type,
+/// `planner_ipc::wire::PlanRequest`, which [`super::ipc::IpcPlanner`] builds from this one.
 #[derive(Clone, Copy, Debug)]
-pub struct PlanRequest {
+pub struct GlobalPlanRequest {
     /// Start cell.
     pub start: Cell,
     /// Goal cell.
@@ -84,7 +85,7 @@ pub trait GlobalPlanner {
     /// Replaces the map (the simulator calls it again with temporary obstacles to replan).
     fn set_map(&mut self, grid: GridRef<'_>) -> Result<(), PlanFailure>;
     /// Plans on the current map.
-    fn plan(&mut self, request: &PlanRequest) -> Result<PlannedPath, PlanFailure>;
+    fn plan(&mut self, request: &GlobalPlanRequest) -> Result<PlannedPath, PlanFailure>;
 }
 
 /// `planner-core` in this process.
@@ -125,7 +126,7 @@ impl GlobalPlanner for InProcess {
         Ok(())
     }
 
-    fn plan(&mut self, request: &PlanRequest) -> Result<PlannedPath, PlanFailure> {
+    fn plan(&mut self, request: &GlobalPlanRequest) -> Result<PlannedPath, PlanFailure> {
         let grid = self
             .grid
             .as_ref()
@@ -143,14 +144,18 @@ impl GlobalPlanner for InProcess {
         let t0 = Instant::now();
         let outcome = self.planner.plan(
             grid.view(),
-            request.algo,
             request.start,
             request.goal,
-            &params,
-            &aco,
+            &PlanChoice {
+                kind: request.algo,
+                params,
+                aco,
+            },
             out,
-            &mut history,
-            &mut || false,
+            PlanOptions {
+                history: &mut history,
+                interrupt: None,
+            },
         )?;
         let time = t0.elapsed();
         let n = outcome.report.map_or(0, |r| r.history_len);
@@ -175,6 +180,11 @@ pub enum PlannerChoice {
     /// `planner-server` over iceoryx2: a server already serving the prefix `planner`, or
     /// one this process starts (under a private prefix; stopped when it ends).
     Ipc,
+    /// `planner-server --transport zenoh`: a planner alive at tcp/127.0.0.1:7447 under the
+    /// prefix `planner`, or one this process starts (free ports of 127.0.0.1, a private
+    /// prefix; stopped when it ends). Feature `zenoh`.
+    #[cfg(feature = "zenoh")]
+    Zenoh,
 }
 
 impl PlannerChoice {
@@ -183,6 +193,18 @@ impl PlannerChoice {
         match self {
             PlannerChoice::Inproc => "inproc",
             PlannerChoice::Ipc => "ipc",
+            #[cfg(feature = "zenoh")]
+            PlannerChoice::Zenoh => "zenoh",
+        }
+    }
+
+    /// The transport of a planner service, `None` in this process.
+    pub fn transport(self) -> Option<&'static str> {
+        match self {
+            PlannerChoice::Inproc => None,
+            PlannerChoice::Ipc => Some("iceoryx2"),
+            #[cfg(feature = "zenoh")]
+            PlannerChoice::Zenoh => Some("Zenoh"),
         }
     }
 
@@ -191,6 +213,13 @@ impl PlannerChoice {
         match self {
             PlannerChoice::Inproc => Ok(Box::new(InProcess::new())),
             PlannerChoice::Ipc => Ok(Box::new(super::ipc::IpcPlanner::connect_or_start(
+                "planner",
+                Duration::from_millis(300),
+                log,
+            )?)),
+            #[cfg(feature = "zenoh")]
+            PlannerChoice::Zenoh => Ok(Box::new(super::zenoh::ZenohPlanner::connect_or_start(
+                super::zenoh::DEFAULT_ENDPOINT,
                 "planner",
                 Duration::from_millis(300),
                 log,

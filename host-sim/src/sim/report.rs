@@ -2,10 +2,10 @@
 
 use super::mission::{MissionResult, MissionSpec};
 use super::world::Kind;
-use crate::mapsrc::MapFrame;
 use crate::render::{Disc, Layer, MapPicture, Marker, Series, Shape, Style, convergence_plot};
 use planner_core::geometry::{Cell, Point};
 use planner_core::grid::GridRef;
+use planner_mapfile::MapFrame;
 use std::path::Path;
 
 /// Colour of people.
@@ -155,12 +155,13 @@ pub fn save_pictures(
 /// One line of summary.
 pub fn summary(r: &MissionResult) -> String {
     format!(
-        "{}: {}, success {}, collisions {} static / {} dynamic, time {:.1} s, driven {:.2} vs planned {:.2} m, RMS cross-track {:.3} m, min clearance {:.3} m static / {} dynamic, replans {}, stuck {}, oscillations {}",
+        "{}: {}, success {}, collisions {} static / {} dynamic ({} while moving), time {:.1} s, driven {:.2} vs planned {:.2} m, RMS cross-track {:.3} m, min clearance {:.3} m static / {} dynamic, replans {}, stuck {}, oscillations {}",
         r.name,
         r.outcome,
         r.success,
         r.collisions_static,
         r.collisions_dynamic,
+        r.contacts_moving,
         r.time_to_goal.unwrap_or(r.sim_time),
         r.driven_length,
         r.planned_length,

@@ -26,15 +26,13 @@ pub struct BadRobot {
     pub option: &'static str,
     /// Its value.
     pub value: f32,
+    /// What it must be.
+    pub rule: &'static str,
 }
 
 impl fmt::Display for BadRobot {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(
-            f,
-            "{} {}: must be a finite number above 0",
-            self.option, self.value
-        )
+        write!(f, "{} {}: {}", self.option, self.value, self.rule)
     }
 }
 
@@ -56,7 +54,11 @@ impl Robot {
             ("--max-accel", self.max_accel),
         ] {
             if !(value.is_finite() && value > 0.0) {
-                return Err(BadRobot { option, value });
+                return Err(BadRobot {
+                    option,
+                    value,
+                    rule: "must be a finite number above 0",
+                });
             }
         }
         Ok(())

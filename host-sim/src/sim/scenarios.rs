@@ -2,6 +2,7 @@
 
 use super::kinematics::DiffDrive;
 use super::mission::{MissionSpec, Outcome};
+use super::safety::Safety;
 use super::world::{Agent, Behaviour, Kind};
 use planner_core::dwa::{DwaConfig, DwaState};
 use planner_core::geometry::{Cell, Point};
@@ -65,7 +66,7 @@ impl Scenario {
             agents: (self.agents)(),
             people: 0,
             robots: 0,
-            dwa: DwaConfig::default(),
+            dwa: Safety::AMR.apply(DwaConfig::default(), 1.0),
             drive: DiffDrive::default(),
             time_limit: Some(120.0),
             record: true,

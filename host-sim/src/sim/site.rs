@@ -3,11 +3,11 @@
 //! starts and goals checked against them (each failure its own named error) or drawn at
 //! random within one connected region of the inflated map.
 
-use crate::mapsrc::MapFrame;
 use planner_core::geometry::Cell;
 use planner_core::grid::{GridBuf, GridRef};
 use planner_core::search::connectivity::{self, BLOCKED};
 use planner_ipc::jsonl::{self, ErrorLine};
+use planner_mapfile::MapFrame;
 use rand_core::Rng;
 use rand_xoshiro::Xoshiro256PlusPlus;
 

@@ -61,6 +61,8 @@ struct ConfigInput {
     oscillation_window: Limit,
     backoff_speed: Limit,
     recovery_rotations: u8,
+    /// Static margin, protective field stop and slow-down distances (off when `None`).
+    safety: Option<[Limit; 3]>,
 }
 
 impl ConfigInput {
@@ -98,6 +100,9 @@ impl ConfigInput {
             oscillation_window: self.oscillation_window.get(d.oscillation_window),
             backoff_speed: self.backoff_speed.get(d.backoff_speed),
             recovery_rotations: self.recovery_rotations as u16,
+            margin: self.safety.map_or(d.margin, |s| s[0].get(0.1)),
+            protect_stop: self.safety.map_or(d.protect_stop, |s| s[1].get(0.25)),
+            protect_slow: self.safety.map_or(d.protect_slow, |s| s[2].get(1.25)),
         }
     }
 

@@ -1,6 +1,6 @@
 //! Every planner on an arbitrary small map with arbitrary endpoints and parameters.
 //!
-//! Errors are fine; a returned path must be valid (the collision rule, or seed 003's walk
+//! Errors are fine; a returned path must be valid (the collision rule, or `Liu2020Igwo`'s walk
 //! rule for the loose corner rule), start and end at the requested centres, and agree with
 //! exact connectivity; endpoint errors must be the documented ones.
 #![no_main]
@@ -16,8 +16,8 @@ use planner_core::encoding::walk::{CornerRule, validate_walk};
 use planner_core::error::PlanError;
 use planner_core::path::{self, Path};
 use planner_core::planner::aco::AcoParams;
-use planner_core::planner::owned::HostPlanner;
-use planner_core::planner::{EncodingKind, InitKind, PlanParams, PlannerKind};
+use planner_core::planner::owned::{HostPlanner, PlanChoice};
+use planner_core::planner::{Blend, EncodingKind, InitKind, PlanOptions, PlanParams, PlannerKind};
 use planner_core::search::check_endpoints;
 
 #[derive(Arbitrary, Debug)]
@@ -49,6 +49,8 @@ struct Input {
     aco_stagnation: Option<u8>,
     // Interrupt after this many calls (None: never).
     interrupt_after: Option<u8>,
+    // The blended objective: clearance, its weight, the turn weight (None: length alone).
+    blend: Option<(FloatInput, FloatInput, FloatInput)>,
 }
 
 thread_local! {
@@ -88,6 +90,11 @@ fuzz_target!(|input: Input| {
         corridor_radius: input.radius.get(),
         walk_steps: input.walk_steps.get(160),
         walk_beta: input.walk_beta.get(),
+        blend: input.blend.map_or(Blend::LENGTH, |(c, w, t)| Blend {
+            clearance: c.get(),
+            clearance_weight: w.get(),
+            turn_weight: t.get(),
+        }),
         ..PlanParams::new(planner_core::optim::any::AlgorithmKind::Tclhho)
     };
     let aco = AcoParams {
@@ -119,17 +126,12 @@ fuzz_target!(|input: Input| {
             let (a, b) = (view.index(start).unwrap(), view.index(goal).unwrap());
             labels[a] == labels[b]
         };
-        let result = planner.plan(
-            view,
-            kind,
-            start,
-            goal,
-            &params,
-            &aco,
-            &mut out,
-            &mut history,
-            &mut interrupt,
-        );
+        let choice = PlanChoice { kind, params, aco };
+        let options = PlanOptions {
+            history: &mut history,
+            interrupt: Some(&mut interrupt),
+        };
+        let result = planner.plan(view, start, goal, &choice, &mut out, options);
         if let Some(e) = endpoint_error {
             assert_eq!(result.err(), Some(e), "endpoint error expected");
             return;

@@ -1,4 +1,4 @@
-//! Seed 000's column encoding: variable `j` is the row of the waypoint in map column
+//! `Lei2024Warehouse`'s column encoding: variable `j` is the row of the waypoint in map column
 //! `start.x + j`.
 //!
 //! The path is `start -> (start.x, x_0) -> (start.x + 1, x_1) -> ... -> (goal.x, x_last) ->
@@ -14,7 +14,7 @@ use crate::geometry::{Cell, blocked_cells_touched};
 use crate::grid::GridRef;
 use crate::path::PathView;
 
-/// Seed 000's column encoding.
+/// `Lei2024Warehouse`'s column encoding.
 #[derive(Clone, Copy, Debug)]
 pub struct ColumnEncoding<'g> {
     grid: GridRef<'g>,
@@ -56,7 +56,7 @@ impl<'g> ColumnEncoding<'g> {
         }
     }
 
-    /// The path length alone (the cost without penalties), summed as in [`Self::walk`].
+    /// The path length alone (the cost without penalties), summed as in [`Self::trace`].
     fn length(&self, x: &[f32]) -> f32 {
         let mut length = 0.0;
         let mut prev = self.start;
@@ -73,7 +73,7 @@ impl<'g> ColumnEncoding<'g> {
     /// `length + penalty * blocked`. For cross-checks of other implementations (the
     /// `column_cost` example).
     pub fn length_and_blocked(&self, x: &[f32]) -> (f32, u32) {
-        self.walk(x, |_| Ok(())).unwrap_or((f32::INFINITY, 0))
+        self.trace(x, |_| Ok(())).unwrap_or((f32::INFINITY, 0))
     }
 
     /// The penalty per blocked cell, [`infeasible_penalty`] of the map.
@@ -82,7 +82,7 @@ impl<'g> ColumnEncoding<'g> {
     }
 
     /// Visits the path's vertices; returns (length, blocked cells touched).
-    fn walk(
+    fn trace(
         &self,
         x: &[f32],
         mut visit: impl FnMut(Cell) -> Result<(), PlanError>,
@@ -167,7 +167,7 @@ impl Encoding for ColumnEncoding<'_> {
 
     fn decode(&mut self, x: &[f32], out: &mut PathView) -> Result<(), PlanError> {
         out.clear();
-        let (_, blocked) = self.walk(x, |c| {
+        let (_, blocked) = self.trace(x, |c| {
             out.push(c.center())
                 .map_err(|_| PlanError::CapacityExceeded)
         })?;

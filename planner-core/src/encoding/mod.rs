@@ -1,9 +1,9 @@
 //! Path encodings: how a point of the optimizer's box `[lb, ub]^D` becomes a path.
 //!
 //! The papers vary exactly this, so it is a trait ([`Encoding`]):
-//! - [`column`](mod@column): seed 000's column encoding (one row per map column; x-monotone paths only),
+//! - [`column`](mod@column): `Lei2024Warehouse`'s column encoding (one row per map column; x-monotone paths only),
 //!   a reproduction mode;
-//! - [`walk`]: seed 003's 8-connected cell walk without revisits, a reproduction mode (its
+//! - [`walk`]: `Liu2020Igwo`'s 8-connected cell walk without revisits, a reproduction mode (its
 //!   looser corner rule behind an option);
 //! - [`corridor`]: the general encoding for any map: waypoints that slide across an exact
 //!   guide route, with a repairing decoder, so every decoded path is valid.
@@ -11,6 +11,7 @@
 //! Costs are path lengths; an infeasible decoding (only the reproduction modes have them)
 //! costs [`infeasible_penalty`] per violation on top, far above any length on the map.
 
+pub mod blend;
 pub mod column;
 pub mod corridor;
 pub mod walk;

@@ -1,4 +1,4 @@
-//! Seed 003's 8-connected cell walk: variable `k` chooses the `k`-th step among the free,
+//! `Liu2020Igwo`'s 8-connected cell walk: variable `k` chooses the `k`-th step among the free,
 //! not yet visited neighbours (no revisits, so no loops), costs 1 and sqrt 2.
 //!
 //! The paper does not say how a real number picks a neighbour; here `x_k` in `[0, 1)` is the
@@ -26,7 +26,7 @@ pub enum CornerRule {
     /// SPEC's rule: both side cells must be free (no corner cutting).
     #[default]
     Strict,
-    /// Seed 003's rule: forbidden only when both side cells are blocked.
+    /// `Liu2020Igwo`'s rule: forbidden only when both side cells are blocked.
     Loose,
 }
 
@@ -47,7 +47,7 @@ impl CornerRule {
     }
 }
 
-/// Seed 003's walk encoding. `visited` is a caller-owned bitset of `cells / 32 + 1` words.
+/// `Liu2020Igwo`'s walk encoding. `visited` is a caller-owned bitset of `cells / 32 + 1` words.
 #[derive(Debug)]
 pub struct WalkEncoding<'g, 'b> {
     grid: GridRef<'g>,

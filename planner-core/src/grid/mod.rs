@@ -19,7 +19,7 @@
 //! ```
 
 use crate::error::{GridError, MapError};
-use crate::geometry::Cell;
+use crate::geometry::types::Cell;
 
 #[cfg(feature = "alloc")]
 mod buf;

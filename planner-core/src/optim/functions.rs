@@ -1,7 +1,9 @@
-//! Benchmark functions: seed 003's table 1 and shifted sphere / Rastrigin / Rosenbrock /
+//! Benchmark functions: `Liu2020Igwo`'s table 1 and shifted sphere / Rastrigin / Rosenbrock /
 //! Ackley at any dimension, as [`Objective`]s.
 //!
-//! Seed 003's table 1 announces twelve functions but its typesetting lost two of them: `f1` to
+//! Behind the `functions` feature (on by default).
+//!
+//! `Liu2020Igwo`'s table 1 announces twelve functions but its typesetting lost two of them: `f1` to
 //! `f10` are printed (the classic De Jong suite, Schaffer F6/F7, Goldstein-Price, Shubert and
 //! the six-hump camel), and only the optima `-15` and `2.471` of the two "functions with
 //! complex constraints" survive. `f11` is read as the standard constrained problem with
@@ -71,7 +73,7 @@ pub enum FunctionKind {
     Ackley,
 }
 
-/// Seed 003's table 1 functions that can be read, in order `f1..f11`.
+/// `Liu2020Igwo`'s table 1 functions that can be read, in order `f1..f11`.
 pub const TABLE_1: [FunctionKind; 11] = [
     FunctionKind::DeJongSphere,
     FunctionKind::DeJongRosenbrock,

@@ -1,4 +1,4 @@
-//! Real-coded generational genetic algorithm (baseline of seed 003: crossover 0.9,
+//! Real-coded generational genetic algorithm (baseline of `Liu2020Igwo`: crossover 0.9,
 //! mutation 0.1).
 //!
 //! Each generation keeps the best member (elitism) and fills the rest of the next generation
@@ -6,13 +6,13 @@
 //! `c1 = b p1 + (1 - b) p2`, `c2 = (1 - b) p1 + b p2` (`b ~ U(0, 1)`), else copies; then each
 //! gene mutates with the mutation probability by a Gaussian step of
 //! `sigma (ub - lb) (1 - t/T)` (shrinking so the GA can refine late), clamped to the box.
-//! Seed 003 gives only the two rates; the operators are the common textbook choices.
+//! `Liu2020Igwo` gives only the two rates; the operators are the common textbook choices.
 //!
 //! Evaluations: `N` at initialisation, then `N - 1` per generation (the elite is not
 //! re-evaluated).
 
 use super::{
-    Bounds, Initialisation, Objective, OptimError, Optimizer, Population, Settings, Swarm,
+    Bounds, Initialisation, Objective, OptimError, Optimizer, Population, Settings, SwarmState,
     check_param, swarm_accessors,
 };
 
@@ -31,8 +31,8 @@ pub struct GaParams {
 }
 
 impl GaParams {
-    /// Seed 003: crossover 0.9, mutation 0.1 (step 0.1 of the width).
-    pub const fn seed_003() -> Self {
+    /// `Liu2020Igwo`: crossover 0.9, mutation 0.1 (step 0.1 of the width).
+    pub const fn liu2020_igwo() -> Self {
         Self {
             init: Initialisation::Uniform,
             crossover: 0.9,
@@ -51,14 +51,14 @@ impl GaParams {
 
 impl Default for GaParams {
     fn default() -> Self {
-        Self::seed_003()
+        Self::liu2020_igwo()
     }
 }
 
 /// The GA with capacity `N` individuals of `D` genes.
 #[derive(Debug, Clone)]
 pub struct Ga<const N: usize, const D: usize> {
-    swarm: Swarm<N, D>,
+    swarm: SwarmState<N, D>,
     params: GaParams,
     offspring: Population<N, D>,
 }
@@ -80,8 +80,8 @@ impl<const N: usize, const D: usize> Ga<N, D> {
     /// passes through the stack); `init` fails until it is configured.
     pub const fn unconfigured() -> Self {
         Self {
-            swarm: Swarm::unconfigured(),
-            params: GaParams::seed_003(),
+            swarm: SwarmState::unconfigured(),
+            params: GaParams::liu2020_igwo(),
             offspring: Population::empty(),
         }
     }
@@ -194,7 +194,7 @@ mod tests {
             iterations: 100,
             seed: 1,
         };
-        let mut ga = Ga::<21, 4>::new(s, &b, GaParams::seed_003()).unwrap();
+        let mut ga = Ga::<21, 4>::new(s, &b, GaParams::liu2020_igwo()).unwrap();
         let mut obj = |x: &[f32]| x.iter().map(|v| (v - 3.0) * (v - 3.0)).sum::<f32>();
         let r = ga.run(&mut obj, None, &Stop::default(), &mut []).unwrap();
         assert_eq!(r.evaluations, 21 + 100 * 20);
@@ -209,10 +209,10 @@ mod tests {
             iterations: 5,
             seed: 0,
         };
-        let mut p = GaParams::seed_003();
+        let mut p = GaParams::liu2020_igwo();
         p.mutation = 1.1;
         assert!(Ga::<5, 2>::new(s, &b, p).is_err());
-        p = GaParams::seed_003();
+        p = GaParams::liu2020_igwo();
         p.crossover = f32::NAN;
         assert!(Ga::<5, 2>::new(s, &b, p).is_err());
     }

@@ -1,4 +1,4 @@
-//! Grey Wolf Optimizer (Mirjalili 2014), TGWO (seed 000) and IGWO (seed 003), one
+//! Grey Wolf Optimizer (Mirjalili 2014), TGWO (`Lei2024Warehouse`) and IGWO (`Liu2020Igwo`), one
 //! implementation.
 //!
 //! Per iteration, as in `GWO.m`: every wolf moves towards the three leaders with
@@ -6,15 +6,15 @@
 //! `C = 2 r2`, fresh `r1, r2` per leader and dimension, no greedy selection; then all wolves are
 //! clamped and evaluated and the leaders updated. The leaders are an all-time archive that
 //! cascades (a new alpha demotes alpha to beta and beta to delta); `GWO.m`'s
-//! non-cascading update is [`LeaderUpdate::Original`]. The absolute bars of seed 003 eq. 7 are
+//! non-cascading update is [`LeaderUpdate::Original`]. The absolute bars of `Liu2020Igwo` eq. 7 are
 //! typesetting: the canonical update is used.
 //!
 //! Evaluations: `N` at initialisation, then `N` per iteration.
 
 use super::schedule::{ConvergenceFactor, Schedule};
 use super::{
-    Bounds, Initialisation, Objective, OptimError, Optimizer, Population, Settings, Swarm, copy,
-    swarm_accessors,
+    Bounds, Initialisation, Objective, OptimError, Optimizer, Population, Settings, SwarmState,
+    copy, swarm_accessors,
 };
 
 /// How the leader archive absorbs a newly evaluated wolf.
@@ -41,7 +41,7 @@ pub struct GwoParams {
     /// Keep a wolf's move only if it improves the wolf (mealpy's `OriginalGWO` does this;
     /// `GWO.m` and SPEC do not: off by default).
     pub greedy: bool,
-    /// Literal seed 003 eq. 7, `X_k = |X_leader - A D|` (the bars are typesetting: off by
+    /// Literal `Liu2020Igwo` eq. 7, `X_k = |X_leader - A D|` (the bars are typesetting: off by
     /// default, canonical GWO).
     pub literal_abs: bool,
 }
@@ -58,7 +58,7 @@ impl GwoParams {
         }
     }
 
-    /// TGWO: GWO with the Tent initialisation (seed 000's comparison).
+    /// TGWO: GWO with the Tent initialisation (`Lei2024Warehouse`'s comparison).
     pub const fn tgwo() -> Self {
         Self {
             init: Initialisation::TENT,
@@ -66,7 +66,7 @@ impl GwoParams {
         }
     }
 
-    /// IGWO: `a = 2 exp(-2 t/T)` (seed 003 eq. 9 as SPEC resolves it).
+    /// IGWO: `a = 2 exp(-2 t/T)` (`Liu2020Igwo` eq. 9 as SPEC resolves it).
     pub const fn igwo() -> Self {
         Self {
             factor: ConvergenceFactor::IGWO,
@@ -232,7 +232,7 @@ pub(crate) fn hunt<const D: usize>(
 /// GWO / TGWO / IGWO with capacity `N` wolves of `D` dimensions.
 #[derive(Debug, Clone)]
 pub struct Gwo<const N: usize, const D: usize> {
-    swarm: Swarm<N, D>,
+    swarm: SwarmState<N, D>,
     params: GwoParams,
     leaders: Leaders<D>,
 }
@@ -254,7 +254,7 @@ impl<const N: usize, const D: usize> Gwo<N, D> {
     /// passes through the stack); `init` fails until it is configured.
     pub const fn unconfigured() -> Self {
         Self {
-            swarm: Swarm::unconfigured(),
+            swarm: SwarmState::unconfigured(),
             params: GwoParams::gwo(),
             leaders: Leaders {
                 alpha: Wolf::UNSET,
@@ -449,7 +449,7 @@ mod tests {
 
     #[test]
     fn literal_absolute_bars_keep_wolves_non_negative() {
-        // Seed 003 eq. 7 read literally takes |.| of each leader term, so after the first
+        // `Liu2020Igwo` eq. 7 read literally takes |.| of each leader term, so after the first
         // move no wolf has a negative coordinate: an optimum at -5 is out of reach.
         let b = Bounds::<3>::uniform(3, -10.0, 10.0).unwrap();
         let s = Settings {

@@ -1,4 +1,4 @@
-//! Harris Hawks Optimization (Heidari et al. 2019) and TCLHHO (seed 000), one implementation.
+//! Harris Hawks Optimization (Heidari et al. 2019) and TCLHHO (`Lei2024Warehouse`), one implementation.
 //!
 //! The authors' `HHO.m` is the oracle: in-place updates, per-hawk scalars, `E0 ~ U(-1, 1)`
 //! redrawn per hawk and iteration, `|E| >= 1` explores, otherwise soft/hard besiege and the two
@@ -37,7 +37,7 @@
 
 use super::schedule::{EscapeEnergy, Schedule};
 use super::{
-    Bounds, Initialisation, Objective, OptimError, Optimizer, Population, Settings, Swarm,
+    Bounds, Initialisation, Objective, OptimError, Optimizer, Population, Settings, SwarmState,
     check_param, clamp_into, swarm_accessors,
 };
 
@@ -48,9 +48,9 @@ pub enum Mutation {
     /// No mutation (HHO).
     Off,
     /// Once per iteration after all hawks moved, on a copy of the rabbit, kept only if better
-    /// (seed 000 text, section 2.3; the default for TCLHHO).
+    /// (`Lei2024Warehouse` text, section 2.3; the default for TCLHHO).
     AfterUpdates,
-    /// Literal reading of seed 000's algorithm 1: a hawk with `|E| >= 1` takes the mutated
+    /// Literal reading of `Lei2024Warehouse`'s algorithm 1: a hawk with `|E| >= 1` takes the mutated
     /// rabbit *instead of* exploring (unconditionally, like the exploration it replaces).
     ReplacesExploration,
 }
@@ -59,9 +59,9 @@ pub enum Mutation {
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum OppositionForm {
-    /// `Xo = K1 (ub + lb) - Xb`, `X' = Xo + K2 (Xb - Xo)` (seed 000 eq. 17-18, SPEC).
+    /// `Xo = K1 (ub + lb) - Xb`, `X' = Xo + K2 (Xb - Xo)` (`Lei2024Warehouse` eq. 17-18, SPEC).
     Interpolated,
-    /// Literal seed 000 eq. 19: `X' = K2 (Xb - (K1 (ub + lb) - Xb))`.
+    /// Literal `Lei2024Warehouse` eq. 19: `X' = K2 (Xb - (K1 (ub + lb) - Xb))`.
     Literal,
 }
 
@@ -110,7 +110,7 @@ impl HhoParams {
         }
     }
 
-    /// TCLHHO as SPEC resolves seed 000: Tent init, `a = 1.2`, mutation after the updates.
+    /// TCLHHO as SPEC resolves `Lei2024Warehouse`: Tent init, `a = 1.2`, mutation after the updates.
     pub const fn tclhho() -> Self {
         Self {
             init: Initialisation::TENT,
@@ -145,7 +145,7 @@ impl HhoParams {
 /// HHO / TCLHHO with capacity `N` hawks of `D` dimensions.
 #[derive(Debug, Clone)]
 pub struct Hho<const N: usize, const D: usize> {
-    swarm: Swarm<N, D>,
+    swarm: SwarmState<N, D>,
     params: HhoParams,
     /// Running sum of the hawks' positions, for the mean `X_m` of the in-place population.
     sum: [f32; D],
@@ -158,7 +158,7 @@ pub struct Hho<const N: usize, const D: usize> {
     /// only against the rabbit (its cost matters again only if it dives later, and is
     /// recomputed then unless `Y` beats the bound); otherwise every cost is exact. (False
     /// for exact, so that an unconfigured instance is all zero bytes, see
-    /// [`Swarm::unconfigured`](super::Swarm::unconfigured).)
+    /// [`SwarmState::unconfigured`](super::SwarmState::unconfigured).)
     bounded: [bool; N],
 }
 
@@ -179,7 +179,7 @@ impl<const N: usize, const D: usize> Hho<N, D> {
     /// passes through the stack); `init` fails until it is configured.
     pub const fn unconfigured() -> Self {
         Self {
-            swarm: Swarm::unconfigured(),
+            swarm: SwarmState::unconfigured(),
             // Zero where `hho()` is not; `configure` sets the real ones.
             params: HhoParams {
                 levy_scale: 0.0,

@@ -1,5 +1,5 @@
-//! Opposition: the opposite point `lb + ub - x` (SSA-GWO's initialisation, seed 001 section
-//! 2.3.1) and the TCLHHO opposition mutation (seed 000 eq. 17-19).
+//! Opposition: the opposite point `lb + ub - x` (SSA-GWO's initialisation, `Zhu2025Orchard` section
+//! 2.3.1) and the TCLHHO opposition mutation (`Lei2024Warehouse` eq. 17-19).
 
 use super::{Bounds, Objective, Population, Tracker};
 

@@ -1,16 +1,16 @@
-//! Particle Swarm Optimization with inertia (baseline of seeds 001 and 003).
+//! Particle Swarm Optimization with inertia (baseline of `Zhu2025Orchard` and `Liu2020Igwo`).
 //!
 //! `v = w v + c1 r1 (p - x) + c2 r2 (g - x)`, `x = x + v`, with `r1, r2 ~ U(0, 1)` per
 //! dimension, velocities clamped to `vmax = vmax_fraction (ub - lb)` (the usual guard: with
-//! seed 003's `w = 0.9`, `c1 = c2 = 2` an unclamped swarm diverges), positions clamped to the
+//! `Liu2020Igwo`'s `w = 0.9`, `c1 = c2 = 2` an unclamped swarm diverges), positions clamped to the
 //! box. The global best `g` is the best point ever evaluated and is updated at once
 //! (asynchronous PSO). The inertia may fall linearly from `w` to `w_end` over the horizon
-//! (`w_end = w`, constant, by default as in the seeds).
+//! (`w_end = w`, constant, by default as in the papers).
 //!
 //! Evaluations: `N` at initialisation, then `N` per iteration.
 
 use super::{
-    Bounds, Initialisation, Objective, OptimError, Optimizer, Population, Settings, Swarm,
+    Bounds, Initialisation, Objective, OptimError, Optimizer, Population, Settings, SwarmState,
     check_param, swarm_accessors,
 };
 
@@ -33,8 +33,8 @@ pub struct PsoParams {
 }
 
 impl PsoParams {
-    /// Seed 003: `w = 0.9`, `c1 = c2 = 2`.
-    pub const fn seed_003() -> Self {
+    /// `Liu2020Igwo`: `w = 0.9`, `c1 = c2 = 2`.
+    pub const fn liu2020_igwo() -> Self {
         Self {
             init: Initialisation::Uniform,
             w: 0.9,
@@ -45,12 +45,12 @@ impl PsoParams {
         }
     }
 
-    /// Seed 001: `w = 0.7`, `c1 = c2 = 2`.
-    pub const fn seed_001() -> Self {
+    /// `Zhu2025Orchard`: `w = 0.7`, `c1 = c2 = 2`.
+    pub const fn zhu2025_orchard() -> Self {
         Self {
             w: 0.7,
             w_end: 0.7,
-            ..Self::seed_003()
+            ..Self::liu2020_igwo()
         }
     }
 
@@ -66,14 +66,14 @@ impl PsoParams {
 
 impl Default for PsoParams {
     fn default() -> Self {
-        Self::seed_003()
+        Self::liu2020_igwo()
     }
 }
 
 /// PSO with capacity `N` particles of `D` dimensions.
 #[derive(Debug, Clone)]
 pub struct Pso<const N: usize, const D: usize> {
-    swarm: Swarm<N, D>,
+    swarm: SwarmState<N, D>,
     params: PsoParams,
     velocity: [[f32; D]; N],
     personal: Population<N, D>,
@@ -96,8 +96,8 @@ impl<const N: usize, const D: usize> Pso<N, D> {
     /// passes through the stack); `init` fails until it is configured.
     pub const fn unconfigured() -> Self {
         Self {
-            swarm: Swarm::unconfigured(),
-            params: PsoParams::seed_003(),
+            swarm: SwarmState::unconfigured(),
+            params: PsoParams::liu2020_igwo(),
             velocity: [[0.0; D]; N],
             personal: Population::empty(),
         }
@@ -187,7 +187,7 @@ mod tests {
             iterations: 200,
             seed: 1,
         };
-        let mut pso = Pso::<20, 4>::new(s, &b, PsoParams::seed_001()).unwrap();
+        let mut pso = Pso::<20, 4>::new(s, &b, PsoParams::zhu2025_orchard()).unwrap();
         let mut obj = |x: &[f32]| x.iter().map(|v| (v - 3.0) * (v - 3.0)).sum::<f32>();
         let r = pso.run(&mut obj, None, &Stop::default(), &mut []).unwrap();
         assert_eq!(r.evaluations, 20 * 201);
@@ -202,10 +202,10 @@ mod tests {
             iterations: 5,
             seed: 0,
         };
-        let mut p = PsoParams::seed_003();
+        let mut p = PsoParams::liu2020_igwo();
         p.c1 = f32::NAN;
         assert!(Pso::<5, 2>::new(s, &b, p).is_err());
-        let mut p = PsoParams::seed_003();
+        let mut p = PsoParams::liu2020_igwo();
         p.w = 1.5;
         assert!(Pso::<5, 2>::new(s, &b, p).is_err());
     }

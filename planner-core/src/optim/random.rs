@@ -93,7 +93,7 @@ impl Random {
     }
 
     /// The all-zero state, for the all-zero `unconfigured()` optimizers (see
-    /// [`Swarm::unconfigured`](super::Swarm::unconfigured)), which reseed before their first
+    /// [`SwarmState::unconfigured`](super::SwarmState::unconfigured)), which reseed before their first
     /// draw. Xoshiro's zero state is a fixed point: it draws 0 forever, so `normal` and
     /// `cauchy` would never return. Not public for that reason.
     pub(crate) const fn unset() -> Self {

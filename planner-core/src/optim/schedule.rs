@@ -25,7 +25,7 @@ fn fraction(t: u32, horizon: u32) -> f32 {
 pub enum EscapeEnergy {
     /// `E1 = 2 (1 - t/T)` (HHO, Heidari et al. 2019).
     Linear,
-    /// `E1 = 2 (1 - (t/T)^a)` (TCLHHO, seed 000 eq. 13, `a = 1.2`; the pseudocode's 0.5 is
+    /// `E1 = 2 (1 - (t/T)^a)` (TCLHHO, `Lei2024Warehouse` eq. 13, `a = 1.2`; the pseudocode's 0.5 is
     /// the literal reading, with the opposite shape).
     Exponential {
         /// The exponent `a > 0`.
@@ -65,23 +65,23 @@ impl Schedule for EscapeEnergy {
 pub enum ConvergenceFactor {
     /// `a = 2 - 2 t/T` (GWO, Mirjalili 2014).
     Linear,
-    /// `a = a_init exp(-lambda t/T)` (IGWO, seed 003 eq. 9 as SPEC resolves it).
+    /// `a = a_init exp(-lambda t/T)` (IGWO, `Liu2020Igwo` eq. 9 as SPEC resolves it).
     Exponential {
         /// Initial value (2).
         a_init: f32,
         /// Decay rate (2): `a` ends at `a_init e^-lambda`, 0.27 for the defaults.
         lambda: f32,
     },
-    /// Literal seed 003 eq. 9: `a = a_init - exp(-lambda t/T)`, which *rises* from 1 to 1.86.
+    /// Literal `Liu2020Igwo` eq. 9: `a = a_init - exp(-lambda t/T)`, which *rises* from 1 to 1.86.
     ExponentialLiteral {
         /// Initial value (2).
         a_init: f32,
         /// Rate (2).
         lambda: f32,
     },
-    /// `a = 4 / (1 + e^(10 t/T))`, from 2 towards 0 (SSA-GWO, seed 001 eq. 9 mirrored).
+    /// `a = 4 / (1 + e^(10 t/T))`, from 2 towards 0 (SSA-GWO, `Zhu2025Orchard` eq. 9 mirrored).
     MirroredSigmoid,
-    /// Literal seed 001 eq. 9: `a = 2 / (1 + e^(-10 t/T)) - 1`, which rises from 0 to 1.
+    /// Literal `Zhu2025Orchard` eq. 9: `a = 2 / (1 + e^(-10 t/T)) - 1`, which rises from 0 to 1.
     SigmoidLiteral,
 }
 

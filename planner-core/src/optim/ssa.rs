@@ -18,10 +18,9 @@
 //!
 //! Evaluations: `N` at initialisation, then `N + round(SD N)` per iteration.
 
-use super::random::Random;
 use super::{
-    Bounds, Initialisation, Objective, OptimError, Optimizer, Population, Settings, Swarm, Tracker,
-    check_param, copy, swarm_accessors,
+    Bounds, Initialisation, Objective, OptimError, Optimizer, Population, Settings, SwarmState,
+    Tracker, check_param, copy, swarm_accessors,
 };
 
 /// How the better scroungers' term `|X - X_p| A+ L` is read.
@@ -62,8 +61,8 @@ impl SsaParams {
         }
     }
 
-    /// Seed 001's settings: `ST = 0.6`, `PD = 0.4`, `SD = 0.2`.
-    pub const fn seed_001() -> Self {
+    /// `Zhu2025Orchard`'s settings: `ST = 0.6`, `PD = 0.4`, `SD = 0.2`.
+    pub const fn zhu2025_orchard() -> Self {
         Self {
             safety_threshold: 0.6,
             producers: 0.4,
@@ -84,19 +83,24 @@ fn count(fraction: f32, n: usize) -> usize {
     ((fraction * n as f32) + 0.5) as usize
 }
 
-/// One sparrow-search iteration on `pop` (the shared state of SSA and SSA-GWO).
+/// One sparrow-search iteration on the swarm's population (the shared state of SSA and
+/// SSA-GWO).
 ///
-/// `horizon` is `T` in the producers' `exp(-i / (alpha T))`.
-#[allow(clippy::too_many_arguments)]
+/// The swarm's horizon is `T` in the producers' `exp(-i / (alpha T))`.
 pub(crate) fn sparrow_step<const N: usize, const D: usize, O: Objective + ?Sized>(
-    pop: &mut Population<N, D>,
-    bounds: &Bounds<D>,
-    rng: &mut Random,
-    tracker: &mut Tracker<D>,
+    swarm: &mut SwarmState<N, D>,
     objective: &mut O,
     params: &SsaParams,
-    horizon: u32,
 ) {
+    let SwarmState {
+        settings,
+        bounds,
+        rng,
+        pop,
+        tracker,
+        ..
+    } = swarm;
+    let (bounds, horizon) = (&*bounds, settings.iterations);
     let n = pop.size();
     let dim = pop.dim();
     if n == 0 {
@@ -211,7 +215,7 @@ fn try_move<const N: usize, const D: usize, O: Objective + ?Sized>(
 /// Sparrow search with capacity `N` sparrows of `D` dimensions.
 #[derive(Debug, Clone)]
 pub struct Ssa<const N: usize, const D: usize> {
-    swarm: Swarm<N, D>,
+    swarm: SwarmState<N, D>,
     params: SsaParams,
 }
 
@@ -232,7 +236,7 @@ impl<const N: usize, const D: usize> Ssa<N, D> {
     /// passes through the stack); `init` fails until it is configured.
     pub const fn unconfigured() -> Self {
         Self {
-            swarm: Swarm::unconfigured(),
+            swarm: SwarmState::unconfigured(),
             params: SsaParams::ssa(),
         }
     }
@@ -263,16 +267,7 @@ impl<const N: usize, const D: usize> Optimizer for Ssa<N, D> {
 
     fn step<O: Objective + ?Sized>(&mut self, objective: &mut O) -> Result<(), OptimError> {
         self.swarm.begin_step()?;
-        let sw = &mut self.swarm;
-        sparrow_step(
-            &mut sw.pop,
-            &sw.bounds,
-            &mut sw.rng,
-            &mut sw.tracker,
-            objective,
-            &self.params,
-            sw.settings.iterations,
-        );
+        sparrow_step(&mut self.swarm, objective, &self.params);
         Ok(())
     }
 

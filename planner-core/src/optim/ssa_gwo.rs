@@ -1,4 +1,4 @@
-//! SSA-GWO (seed 001): a grey-wolf step then a sparrow-search step on the same population
+//! SSA-GWO (`Zhu2025Orchard`): a grey-wolf step then a sparrow-search step on the same population
 //! each iteration.
 //!
 //! As SPEC resolves the paper: opposition-based initialisation (the best `N` of `N` uniform
@@ -16,7 +16,7 @@ use super::pso::PsoParams;
 use super::schedule::{ConvergenceFactor, Schedule};
 use super::ssa::{SsaParams, sparrow_step};
 use super::{
-    Bounds, Initialisation, Objective, OptimError, Optimizer, Settings, Swarm, copy,
+    Bounds, Initialisation, Objective, OptimError, Optimizer, Settings, SwarmState, copy,
     swarm_accessors,
 };
 
@@ -31,9 +31,9 @@ pub struct SsaGwoParams {
 }
 
 impl SsaGwoParams {
-    /// Seed 001 as SPEC resolves it.
-    pub const fn seed_001() -> Self {
-        let mut sparrow = SsaParams::seed_001();
+    /// `Zhu2025Orchard` as SPEC resolves it.
+    pub const fn zhu2025_orchard() -> Self {
+        let mut sparrow = SsaParams::zhu2025_orchard();
         sparrow.init = Initialisation::Opposition;
         Self {
             factor: ConvergenceFactor::MirroredSigmoid,
@@ -49,14 +49,14 @@ impl SsaGwoParams {
 
 impl Default for SsaGwoParams {
     fn default() -> Self {
-        Self::seed_001()
+        Self::zhu2025_orchard()
     }
 }
 
 /// SSA-GWO with capacity `N` of `D` dimensions.
 #[derive(Debug, Clone)]
 pub struct SsaGwo<const N: usize, const D: usize> {
-    swarm: Swarm<N, D>,
+    swarm: SwarmState<N, D>,
     params: SsaGwoParams,
     leaders: Leaders<D>,
 }
@@ -78,8 +78,8 @@ impl<const N: usize, const D: usize> SsaGwo<N, D> {
     /// passes through the stack); `init` fails until it is configured.
     pub const fn unconfigured() -> Self {
         Self {
-            swarm: Swarm::unconfigured(),
-            params: SsaGwoParams::seed_001(),
+            swarm: SwarmState::unconfigured(),
+            params: SsaGwoParams::zhu2025_orchard(),
             leaders: Leaders::new(),
         }
     }
@@ -129,7 +129,7 @@ impl<const N: usize, const D: usize> SsaGwo<N, D> {
     }
 }
 
-/// The literal reading of seed 001's second phase: PSO equations (eq. 10-11) instead of
+/// The literal reading of `Zhu2025Orchard`'s second phase: PSO equations (eq. 10-11) instead of
 /// sparrow search, as a variant only (SPEC).
 ///
 /// After each grey-wolf phase every member moves by `v = w v + c1 r1 (p - x) + c2 r2 (g - x)`,
@@ -161,7 +161,7 @@ impl<const N: usize, const D: usize> SsaGwoPso<N, D> {
     pub const fn unconfigured() -> Self {
         Self {
             inner: SsaGwo::unconfigured(),
-            pso: PsoParams::seed_001(),
+            pso: PsoParams::zhu2025_orchard(),
             velocity: [[0.0; D]; N],
         }
     }
@@ -263,17 +263,8 @@ impl<const N: usize, const D: usize> Optimizer for SsaGwo<N, D> {
 
     fn step<O: Objective + ?Sized>(&mut self, objective: &mut O) -> Result<(), OptimError> {
         self.wolf_phase(objective)?;
-        let sw = &mut self.swarm;
-        sparrow_step(
-            &mut sw.pop,
-            &sw.bounds,
-            &mut sw.rng,
-            &mut sw.tracker,
-            objective,
-            &self.params.sparrow,
-            sw.settings.iterations,
-        );
-        self.leaders = Leaders::from_population(&sw.pop);
+        sparrow_step(&mut self.swarm, objective, &self.params.sparrow);
+        self.leaders = Leaders::from_population(&self.swarm.pop);
         Ok(())
     }
 
@@ -293,7 +284,7 @@ mod tests {
             iterations: 25,
             seed: 2,
         };
-        let mut a = SsaGwo::<20, 5>::new(s, &b, SsaGwoParams::seed_001()).unwrap();
+        let mut a = SsaGwo::<20, 5>::new(s, &b, SsaGwoParams::zhu2025_orchard()).unwrap();
         let mut obj = |x: &[f32]| x.iter().map(|v| (v - 3.0) * (v - 3.0)).sum::<f32>();
         let r = a.run(&mut obj, None, &Stop::default(), &mut []).unwrap();
         assert_eq!(r.evaluations, 40 + 25 * (20 + 20 + 4));
@@ -309,15 +300,20 @@ mod tests {
             iterations: 50,
             seed: 2,
         };
-        let mut a = SsaGwoPso::<20, 5>::new(s, &b, SsaGwoParams::seed_001(), PsoParams::seed_001())
-            .unwrap();
+        let mut a = SsaGwoPso::<20, 5>::new(
+            s,
+            &b,
+            SsaGwoParams::zhu2025_orchard(),
+            PsoParams::zhu2025_orchard(),
+        )
+        .unwrap();
         let mut obj = |x: &[f32]| x.iter().map(|v| (v - 3.0) * (v - 3.0)).sum::<f32>();
         let mut hist = [0.0f32; 50];
         let r = a.run(&mut obj, None, &Stop::default(), &mut hist).unwrap();
         assert_eq!(r.evaluations, 40 + 50 * 40);
         assert!(r.best_cost < hist[0]);
-        let mut bad = PsoParams::seed_001();
+        let mut bad = PsoParams::zhu2025_orchard();
         bad.w = f32::NAN;
-        assert!(SsaGwoPso::<20, 5>::new(s, &b, SsaGwoParams::seed_001(), bad).is_err());
+        assert!(SsaGwoPso::<20, 5>::new(s, &b, SsaGwoParams::zhu2025_orchard(), bad).is_err());
     }
 }

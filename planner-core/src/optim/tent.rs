@@ -1,4 +1,4 @@
-//! Tent chaotic initialisation (seed 000 section 2.1).
+//! Tent chaotic initialisation (`Lei2024Warehouse` section 2.1).
 //!
 //! `z_{k+1} = z_k / u` if `z_k <= u`, else `(1 - z_k) / (1 - u)`, iterated *along the
 //! population* for each dimension, `X_k = lb + z_k (ub - lb)`.
@@ -6,7 +6,7 @@
 //! In floating point the classic `u = 0.5` tent doubles the value each step and loses one
 //! mantissa bit per step, so every orbit reaches exactly 0 within ~25 steps in `f32` and stays
 //! there. [`TentMap`] therefore adds a small random term mod 1 after each step (the fix of
-//! Teng et al. 2018, seed 000's ref. 23) and redraws in the rare event that the result is
+//! Teng et al. 2018, `Lei2024Warehouse`'s ref. 23) and redraws in the rare event that the result is
 //! exactly 0 or 1, so it never emits either.
 
 use super::random::Random;

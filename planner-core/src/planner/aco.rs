@@ -1,8 +1,8 @@
-//! Seed 000's ant colony baseline (ACA): ants walk the 8-connected grid from the start,
+//! `Lei2024Warehouse`'s ant colony baseline (ACA): ants move over the 8-connected grid from the start,
 //! choosing among free, unvisited neighbours with probability proportional to
 //! `tau^alpha * eta^beta`, `eta = 1 / (distance to goal)`; pheromone lives on directed moves,
 //! evaporates by `rho` each iteration and every ant that reached the goal deposits `Q / L` on
-//! its moves (ant-cycle rule, applied after all ants of the iteration walked).
+//! its moves (ant-cycle rule, applied after all ants of the iteration moved).
 //!
 //! Random numbers: per ant, one uniform draw per step (the roulette), nothing else.
 
@@ -16,7 +16,7 @@ use crate::search::{MOVES, check_endpoints, connectivity};
 
 use super::{PlanReport, PlanStop};
 
-/// ACO parameters (seed 000's values by default).
+/// ACO parameters (`Lei2024Warehouse`'s values by default).
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct AcoParams {
@@ -58,7 +58,7 @@ impl Default for AcoParams {
 
 /// Caller-owned ACO storage: `8 * cells` floats each for pheromone and its per-iteration
 /// increment, a `cells / 32 + 1`-word visited bitset, and two cell-index buffers (the
-/// current ant's walk and the best walk) of up to `cells` entries.
+/// current ant's tour and the best tour) of up to `cells` entries.
 pub struct AcoWorkspace<'a> {
     /// Pheromone per directed move.
     pub tau: &'a mut [f32],
@@ -66,9 +66,9 @@ pub struct AcoWorkspace<'a> {
     pub delta: &'a mut [f32],
     /// Visited bitset.
     pub visited: &'a mut [u32],
-    /// The walk being built.
-    pub walk: &'a mut [u32],
-    /// The best walk so far.
+    /// The tour being built.
+    pub tour: &'a mut [u32],
+    /// The best tour so far.
     pub best: &'a mut [u32],
     /// Component labels of the map (from [`connectivity::label`]).
     pub labels: &'a [u32],
@@ -100,7 +100,7 @@ pub fn plan(
     if ws.tau.len() < 8 * cells
         || ws.delta.len() < 8 * cells
         || ws.visited.len() < cells / 32 + 1
-        || ws.walk.len() < cells
+        || ws.tour.len() < cells
         || ws.best.len() < cells
     {
         return Err(PlanError::CapacityExceeded);
@@ -138,7 +138,7 @@ pub fn plan(
             let mut cur = start;
             let mut steps = 0usize;
             let mut length = 0.0f32;
-            ws.walk[0] = idx(cur) as u32;
+            ws.tour[0] = idx(cur) as u32;
             mark(ws.visited, idx(cur));
             while cur != goal && steps + 1 < cells {
                 let mut weight = [0.0f32; 8];
@@ -182,22 +182,22 @@ pub fn plan(
                 );
                 steps += 1;
                 length += cost;
-                ws.walk[steps] = idx(cur) as u32;
+                ws.tour[steps] = idx(cur) as u32;
                 mark(ws.visited, idx(cur));
             }
             if cur != goal {
                 continue;
             }
             for s in 0..steps {
-                if let Some(m) = move_index(ws.walk[s] as usize, ws.walk[s + 1] as usize, width) {
-                    ws.delta[8 * ws.walk[s] as usize + m] += params.q / length;
+                if let Some(m) = move_index(ws.tour[s] as usize, ws.tour[s + 1] as usize, width) {
+                    ws.delta[8 * ws.tour[s] as usize + m] += params.q / length;
                 }
             }
             if length < best_len {
                 best_len = length;
                 best_steps = steps;
                 best_iteration = iteration + 1;
-                ws.best[..=steps].copy_from_slice(&ws.walk[..=steps]);
+                ws.best[..=steps].copy_from_slice(&ws.tour[..=steps]);
             }
         }
         for (t, d) in ws.tau[..8 * cells].iter_mut().zip(ws.delta.iter()) {

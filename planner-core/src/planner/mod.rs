@@ -5,7 +5,7 @@
 //! optimizer runs), builds the encoding, runs the optimizer, decodes its best point, applies
 //! the patent's node pruning (collinear removal, then line-of-sight shortcutting) and
 //! validates the result. It returns a path only if it is valid under the collision rule (or
-//! under seed 003's looser rule when that reproduction option was asked for).
+//! under `Liu2020Igwo`'s looser rule when that reproduction option was asked for).
 //!
 //! [`PlanStorage`] holds everything a plan needs (capacities as constants, a zeroed
 //! `static` in firmware); [`PlanStorageMut`] is the same as borrowed buffers, for storage sized
@@ -31,6 +31,7 @@ pub mod aco;
 mod guide;
 pub mod optimizers;
 #[cfg(feature = "alloc")]
+#[cfg_attr(docsrs, doc(cfg(feature = "alloc")))]
 pub mod owned;
 mod storage;
 
@@ -39,6 +40,7 @@ pub use optimizers::{HhoOrGwo, PlanOptimizer};
 pub use storage::PlanStorage;
 
 use crate::encoding::Encoding;
+pub use crate::encoding::blend::Blend;
 use crate::encoding::column::ColumnEncoding;
 use crate::encoding::corridor::{CorridorEncoding, Station};
 use crate::encoding::walk::{CornerRule, WalkEncoding, validate_walk};
@@ -60,7 +62,7 @@ pub enum PlannerKind {
     AStar,
     /// Theta*, any-angle (`theta`).
     Theta,
-    /// Seed 000's ant colony (`aco`).
+    /// `Lei2024Warehouse`'s ant colony (`aco`).
     Aco,
     /// A swarm optimizer over an encoding ([`plan`]).
     Swarm(AlgorithmKind),
@@ -126,9 +128,9 @@ pub enum EncodingKind {
     /// The general encoding for any map (waypoints across an exact guide route).
     #[default]
     Corridor,
-    /// Seed 000's column encoding (x-monotone paths only; reproduction mode).
+    /// `Lei2024Warehouse`'s column encoding (x-monotone paths only; reproduction mode).
     Column,
-    /// Seed 003's 8-connected walk (reproduction mode).
+    /// `Liu2020Igwo`'s 8-connected walk (reproduction mode).
     Walk,
 }
 
@@ -146,6 +148,7 @@ impl EncodingKind {
 /// The exact route the corridor encoding's stations sit on (it fixes the homotopy class the
 /// optimizer searches in).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum GuideKind {
     /// The shortest any-angle path ([`crate::search::anyangle`]), so that the plan
@@ -221,6 +224,10 @@ pub struct PlanParams {
     pub walk_steps: usize,
     /// Walk encoding: greediness of the step roulette.
     pub walk_beta: f32,
+    /// Corridor encoding: what a path costs beyond its length (turns, missing clearance);
+    /// [`Blend::LENGTH`], length alone, is the papers' objective (and the only one accepted
+    /// without the `blend` feature).
+    pub blend: Blend,
 }
 
 impl PlanParams {
@@ -253,6 +260,7 @@ impl PlanParams {
             corridor_radius: 5.0,
             walk_steps: 0,
             walk_beta: 2.0,
+            blend: Blend::LENGTH,
         }
     }
 }
@@ -263,6 +271,7 @@ pub const HOST_STAGNATION: u32 = 50;
 
 /// Why the optimizer stopped.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum PlanStop {
     /// The iteration horizon was reached.
@@ -290,6 +299,7 @@ impl PlanStop {
 
 /// What [`plan`] reports besides the path.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct PlanReport {
     /// Length of the returned path.
@@ -304,7 +314,7 @@ pub struct PlanReport {
     pub evaluations: u64,
     /// Iterations done.
     pub iterations: u32,
-    /// First iteration whose best equals the final best (seed 000's `I`).
+    /// First iteration whose best equals the final best (`Lei2024Warehouse`'s `I`).
     pub best_iteration: u32,
     /// Decision variables.
     pub dimension: usize,
@@ -429,6 +439,12 @@ pub fn plan<const N: usize, const D: usize, O: PlanOptimizer<N, D>>(
     };
     check_endpoints(grid, start, goal)?;
     check_params(params)?;
+    let query = Query {
+        grid,
+        start,
+        goal,
+        params: *params,
+    };
     // Checked here as well as by the optimizer, so that a query that needs no optimizing
     // (a straight guide) reports the same error as any other.
     if params.population > N {
@@ -482,22 +498,19 @@ pub fn plan<const N: usize, const D: usize, O: PlanOptimizer<N, D>>(
                 params.corridor_radius,
                 D,
                 stations,
-            )?;
+            )?
+            .with_blend(params.blend);
             if enc.dim() == 0 {
                 return trivial(grid, guide, out);
             }
-            optimise(
-                grid, start, goal, params, &mut enc, None, optimizer, out, history, interrupt,
-            )
+            optimise(query, &mut enc, None, optimizer, out, history, interrupt)
         }
         EncodingKind::Column => {
             let mut enc = ColumnEncoding::new(grid, start, goal)?;
             if enc.dim() > D {
                 return Err(PlanError::CapacityExceeded);
             }
-            optimise(
-                grid, start, goal, params, &mut enc, None, optimizer, out, history, interrupt,
-            )
+            optimise(query, &mut enc, None, optimizer, out, history, interrupt)
         }
         EncodingKind::Walk => {
             let steps = if params.walk_steps == 0 {
@@ -515,10 +528,7 @@ pub fn plan<const N: usize, const D: usize, O: PlanOptimizer<N, D>>(
             let mut enc =
                 WalkEncoding::new(grid, start, goal, steps, rule, params.walk_beta, visited)?;
             optimise(
-                grid,
-                start,
-                goal,
-                params,
+                query,
                 &mut enc,
                 Some(rule),
                 optimizer,
@@ -543,10 +553,16 @@ fn check_params(p: &PlanParams) -> Result<(), PlanError> {
         || !(p.guide_relax.is_finite() && (0.0..=0.5).contains(&p.guide_relax))
         || !finite_pos(p.corridor_radius)
         || !(p.walk_beta.is_finite() && p.walk_beta >= 0.0)
+        || !p.blend.is_valid()
     {
         return Err(PlanError::InvalidParameters);
     }
     if p.init == InitKind::Diffusion && p.encoding != EncodingKind::Column {
+        return Err(PlanError::InvalidParameters);
+    }
+    // The reproduction encodings cost what the papers' tables count: length alone; without
+    // the `blend` feature every encoding does.
+    if !p.blend.is_length() && (p.encoding != EncodingKind::Corridor || !cfg!(feature = "blend")) {
         return Err(PlanError::InvalidParameters);
     }
     Ok(())
@@ -579,12 +595,21 @@ fn trivial(
     })
 }
 
-#[allow(clippy::too_many_arguments)]
-fn optimise<const N: usize, const D: usize, E: Encoding, O: PlanOptimizer<N, D>>(
-    grid: GridRef<'_>,
+/// What [`plan`] is asked: the map, the endpoints and the parameters.
+#[derive(Clone, Copy)]
+struct Query<'a> {
+    grid: GridRef<'a>,
     start: Cell,
     goal: Cell,
-    params: &PlanParams,
+    // A copy: a reference stored here lets the caller's parameters escape, and the firmware's
+    // plan then keeps the column and walk encodings it never uses (13 KiB of flash).
+    params: PlanParams,
+}
+
+/// Runs the optimizer over `enc` for `query`, then decodes, checks and prunes its best path
+/// into `out` (`walk_rule`: the walk encoding's validity rule, for the walk encoding).
+fn optimise<const N: usize, const D: usize, E: Encoding, O: PlanOptimizer<N, D>>(
+    query: Query<'_>,
     enc: &mut E,
     walk_rule: Option<CornerRule>,
     opt: &mut O,
@@ -592,6 +617,12 @@ fn optimise<const N: usize, const D: usize, E: Encoding, O: PlanOptimizer<N, D>>
     history: &mut [f32],
     interrupt: &mut dyn FnMut() -> bool,
 ) -> Result<PlanReport, PlanError> {
+    let Query {
+        grid,
+        start,
+        goal,
+        ref params,
+    } = query;
     let dim = enc.dim();
     if dim == 0 || dim > D {
         return Err(PlanError::CapacityExceeded);
@@ -655,7 +686,15 @@ fn optimise<const N: usize, const D: usize, E: Encoding, O: PlanOptimizer<N, D>>
     }
     if params.prune && walk_rule != Some(CornerRule::Loose) {
         path::prune_collinear(out);
-        path::shortcut(grid, out);
+        if !cfg!(feature = "blend") || params.blend.is_length() {
+            path::shortcut(grid, out);
+        } else {
+            // Shortcuts would cut the margins away: only those that lower the blend, then
+            // the waypoints polished into place and freed of the ones that turned redundant.
+            params.blend.simplify(grid, out);
+            params.blend.polish(grid, out);
+            params.blend.simplify(grid, out);
+        }
     }
     Ok(PlanReport {
         length: path::length(out),
@@ -721,5 +760,6 @@ fn diffusion_rows<const D: usize>(
     }
 }
 
-#[cfg(test)]
+// The tests plan on the papers' maps.
+#[cfg(all(test, feature = "maps"))]
 mod tests;

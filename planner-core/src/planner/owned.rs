@@ -32,6 +32,17 @@ pub const HOST_DIMENSION: usize = 128;
 /// Longest guide route, in waypoints.
 pub const GUIDE_CAPACITY: usize = 1 << 16;
 
+/// Which planner [`HostPlanner::plan`] runs, with its parameters.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PlanChoice {
+    /// The planner.
+    pub kind: PlannerKind,
+    /// Parameters of the swarm planners (the others ignore them).
+    pub params: PlanParams,
+    /// Parameters of the ant colony (the others ignore them).
+    pub aco: AcoParams,
+}
+
 /// What any planner reports.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Outcome {
@@ -57,7 +68,7 @@ pub struct HostPlanner {
     visited: Vec<u32>,
     tau: Vec<f32>,
     delta: Vec<f32>,
-    walk: Vec<u32>,
+    tour: Vec<u32>,
     best: Vec<u32>,
     stations: Box<[Station; HOST_DIMENSION]>,
     optimizer: Box<AnyOptimizer<HOST_POPULATION, HOST_DIMENSION>>,
@@ -94,7 +105,7 @@ impl HostPlanner {
             visited: Vec::new(),
             tau: Vec::new(),
             delta: Vec::new(),
-            walk: Vec::new(),
+            tour: Vec::new(),
             best: Vec::new(),
             stations: Box::new([Station::EMPTY; HOST_DIMENSION]),
             optimizer: Box::new(AnyOptimizer::unconfigured()),
@@ -114,7 +125,7 @@ impl HostPlanner {
             self.theta_nodes.clear();
             self.labels = vec![0; cells];
             self.visited = vec![0; cells / 32 + 1];
-            self.walk = vec![0; cells];
+            self.tour = vec![0; cells];
             self.best = vec![0; cells];
             // The ACO buffers are the largest (8 floats a cell twice): made on first use.
             self.tau.clear();
@@ -165,7 +176,6 @@ impl HostPlanner {
     }
 
     /// One swarm plan with the host's workspace.
-    #[allow(clippy::too_many_arguments)]
     fn swarm(
         &mut self,
         grid: GridRef<'_>,
@@ -173,8 +183,7 @@ impl HostPlanner {
         goal: Cell,
         params: &PlanParams,
         out: &mut PathView,
-        history: &mut [f32],
-        interrupt: &mut dyn FnMut() -> bool,
+        options: PlanOptions<'_>,
     ) -> Result<PlanReport, PlanError> {
         let mut storage = PlanStorageMut {
             anyangle: Some(AnyAngleWorkspace {
@@ -192,28 +201,25 @@ impl HostPlanner {
             optimizer: &mut *self.optimizer,
             out,
         };
-        let options = PlanOptions {
-            history,
-            interrupt: Some(interrupt),
-        };
         plan(grid, start, goal, params, &mut storage, options)
     }
 
     /// Plans with any planner on the prepared map (`grid` must be the one passed to
-    /// [`prepare`](Self::prepare)). `params` configure swarm planners, `aco` the ant colony.
-    #[allow(clippy::too_many_arguments)]
+    /// [`prepare`](Self::prepare)): `choice` names the planner and its parameters.
     pub fn plan(
         &mut self,
         grid: GridRef<'_>,
-        kind: PlannerKind,
         start: Cell,
         goal: Cell,
-        params: &PlanParams,
-        aco_params: &AcoParams,
+        choice: &PlanChoice,
         out: &mut PathView,
-        history: &mut [f32],
-        interrupt: &mut dyn FnMut() -> bool,
+        options: PlanOptions<'_>,
     ) -> Result<Outcome, PlanError> {
+        let PlanOptions {
+            history,
+            mut interrupt,
+        } = options;
+        let (kind, params, aco_params) = (choice.kind, &choice.params, &choice.aco);
         if grid.cells() != self.cells {
             return Err(PlanError::InvalidParameters);
         }
@@ -256,7 +262,7 @@ impl HostPlanner {
                     tau: &mut self.tau,
                     delta: &mut self.delta,
                     visited: &mut self.visited,
-                    walk: &mut self.walk,
+                    tour: &mut self.tour,
                     best: &mut self.best,
                     labels,
                 };
@@ -276,7 +282,15 @@ impl HostPlanner {
                     algorithm,
                     ..*params
                 };
-                let report = match self.swarm(grid, start, goal, &params, out, history, interrupt) {
+                let options = PlanOptions {
+                    history: &mut *history,
+                    // Shortens the closure's lifetime bound, which `Option` does not coerce.
+                    interrupt: match interrupt.as_mut() {
+                        Some(f) => Some(&mut **f),
+                        None => None,
+                    },
+                };
+                let report = match self.swarm(grid, start, goal, &params, out, options) {
                     // The guide's open list may have been short: grow it by a search of its
                     // own, then plan once more.
                     Err(PlanError::CapacityExceeded)
@@ -288,7 +302,8 @@ impl HostPlanner {
                         if self.search_open.len() == had {
                             return Err(PlanError::CapacityExceeded);
                         }
-                        self.swarm(grid, start, goal, &params, out, history, interrupt)?
+                        let options = PlanOptions { history, interrupt };
+                        self.swarm(grid, start, goal, &params, out, options)?
                     }
                     other => other?,
                 };

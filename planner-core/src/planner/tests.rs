@@ -1,7 +1,7 @@
 use super::*;
 use crate::encoding::corridor::Station;
 use crate::grid::{Grid, words_for};
-use crate::maps::{MapKind, lab_20x20, seed000};
+use crate::maps::{MapKind, lab_20x20, lei2024_warehouse};
 use crate::optim::any::AnyOptimizer;
 use crate::path::{Path, validate};
 use crate::search::anyangle::{Link, Node, Rect, Roots};
@@ -89,7 +89,7 @@ fn quick(algo: AlgorithmKind) -> PlanParams {
 fn corridor_paths_are_valid_and_improve_on_initialisation() {
     let mut sc = Scratch::new();
     for kind in [MapKind::Sparse, MapKind::Warehouse] {
-        let m = seed000::<{ words_for(40, 40) }>(kind, 40).unwrap();
+        let m = lei2024_warehouse::<{ words_for(40, 40) }>(kind, 40).unwrap();
         for algo in [
             AlgorithmKind::Tclhho,
             AlgorithmKind::Igwo,
@@ -112,7 +112,7 @@ fn corridor_paths_are_valid_and_improve_on_initialisation() {
 #[test]
 fn same_seed_same_path_different_seed_may_differ() {
     let mut sc = Scratch::new();
-    let m = seed000::<{ words_for(40, 40) }>(MapKind::Sparse, 30).unwrap();
+    let m = lei2024_warehouse::<{ words_for(40, 40) }>(MapKind::Sparse, 30).unwrap();
     let p = PlanParams {
         seed: 9,
         ..quick(AlgorithmKind::Tclhho)
@@ -124,9 +124,9 @@ fn same_seed_same_path_different_seed_may_differ() {
 }
 
 #[test]
-fn column_encoding_reproduces_seed_000() {
+fn column_encoding_reproduces_lei2024_warehouse() {
     let mut sc = Scratch::new();
-    let m = seed000::<{ words_for(40, 40) }>(MapKind::Sparse, 10).unwrap();
+    let m = lei2024_warehouse::<{ words_for(40, 40) }>(MapKind::Sparse, 10).unwrap();
     let p = PlanParams {
         encoding: EncodingKind::Column,
         ..PlanParams::new(AlgorithmKind::Tclhho)
@@ -152,7 +152,7 @@ fn column_encoding_reproduces_seed_000() {
 }
 
 #[test]
-fn walk_encoding_reproduces_seed_003() {
+fn walk_encoding_reproduces_liu2020_igwo() {
     let mut sc = Scratch::new();
     let lab = lab_20x20::<{ words_for(40, 40) }>().unwrap();
     for rule in [CornerRule::Strict, CornerRule::Loose] {
@@ -330,7 +330,7 @@ fn trivial_queries_and_interrupts() {
         )
         .unwrap();
     assert_eq!(r.stop, PlanStop::Trivial);
-    let m = seed000::<{ words_for(40, 40) }>(MapKind::Warehouse, 30).unwrap();
+    let m = lei2024_warehouse::<{ words_for(40, 40) }>(MapKind::Warehouse, 30).unwrap();
     let mut stations = [Station::EMPTY; 64];
     let mut out: Path<1600> = Path::new();
     let mut optimizer = AnyOptimizer::<30, 64>::unconfigured();
@@ -364,18 +364,18 @@ fn trivial_queries_and_interrupts() {
 
 #[test]
 fn aco_baseline_finds_valid_paths() {
-    let m = seed000::<{ words_for(40, 40) }>(MapKind::Sparse, 30).unwrap();
+    let m = lei2024_warehouse::<{ words_for(40, 40) }>(MapKind::Sparse, 30).unwrap();
     let cells = 900;
     let mut labels = [0u32; 900];
     connectivity::label(m.grid.view(), &mut labels).unwrap();
     let (mut tau, mut delta) = (vec![0.0f32; 8 * cells], vec![0.0f32; 8 * cells]);
-    let (mut walk, mut best) = (vec![0u32; cells], vec![0u32; cells]);
+    let (mut tour, mut best) = (vec![0u32; cells], vec![0u32; cells]);
     let mut visited = [0u32; 29];
     let mut ws = aco::AcoWorkspace {
         tau: &mut tau,
         delta: &mut delta,
         visited: &mut visited,
-        walk: &mut walk,
+        tour: &mut tour,
         best: &mut best,
         labels: &labels,
     };
@@ -550,7 +550,7 @@ fn visited_bitset_only_for_the_walk_encoding() {
 #[test]
 fn dense_lattices_fall_back_to_the_a_star_guide() {
     use super::aco::AcoParams;
-    use super::owned::HostPlanner;
+    use super::owned::{HostPlanner, PlanChoice};
     use crate::grid::GridBuf;
     let side = 600;
     let mut g = GridBuf::new(side, side).unwrap();
@@ -573,14 +573,15 @@ fn dense_lattices_fall_back_to_the_a_star_guide() {
         planner
             .plan(
                 g.view(),
-                PlannerKind::Swarm(AlgorithmKind::Tclhho),
                 s,
                 t,
-                &params,
-                &AcoParams::default(),
+                &PlanChoice {
+                    kind: PlannerKind::Swarm(AlgorithmKind::Tclhho),
+                    params,
+                    aco: AcoParams::default(),
+                },
                 out,
-                &mut [],
-                &mut || false,
+                PlanOptions::default(),
             )
             .unwrap()
     };
@@ -596,7 +597,7 @@ fn dense_lattices_fall_back_to_the_a_star_guide() {
 /// family in place, and refuses a map it was not prepared for.
 #[test]
 fn plan_storage_plans_like_the_borrowed_buffers() {
-    let m = seed000::<{ words_for(40, 40) }>(MapKind::Warehouse, 40).unwrap();
+    let m = lei2024_warehouse::<{ words_for(40, 40) }>(MapKind::Warehouse, 40).unwrap();
     let mut storage = Box::new(PlanStorage::<30, 64, 256, 144, 272, 300>::new());
     let p = |algo| PlanParams {
         iterations: 40,
@@ -687,7 +688,7 @@ fn plan_storage_plans_like_the_borrowed_buffers() {
 /// Fewer stations than the optimizer's dimension would cap the plan silently: refused.
 #[test]
 fn fewer_stations_than_dimensions_is_a_capacity_error() {
-    let m = seed000::<{ words_for(40, 40) }>(MapKind::Warehouse, 40).unwrap();
+    let m = lei2024_warehouse::<{ words_for(40, 40) }>(MapKind::Warehouse, 40).unwrap();
     let mut sc = Scratch::new();
     let mut stations = [Station::EMPTY; 63];
     let mut out: Path<1600> = Path::new();
@@ -704,5 +705,71 @@ fn fewer_stations_than_dimensions_is_a_capacity_error() {
             PlanOptions::default()
         ),
         Err(PlanError::CapacityExceeded)
+    );
+}
+
+/// The blended objective keeps the desired clearance where the free space allows it and
+/// stays valid; length alone hugs the obstacle's corners; bad weights are refused.
+#[cfg(all(feature = "alloc", feature = "blend"))]
+#[test]
+fn blended_plans_keep_their_clearance() {
+    use super::aco::AcoParams;
+    use super::owned::{HostPlanner, PlanChoice};
+    use crate::encoding::blend::Blend;
+    use crate::grid::GridBuf;
+    use crate::path::clearance;
+    // A block in the middle of a 30 x 13 room, 5 free rows above and below it.
+    let mut g = GridBuf::new(30, 13).unwrap();
+    for y in 5..=7 {
+        for x in 12..=17 {
+            g.set_blocked(x, y, true).unwrap();
+        }
+    }
+    let mut planner = HostPlanner::new();
+    planner.prepare(g.view()).unwrap();
+    let (s, t) = (Cell::new(2, 6), Cell::new(27, 6));
+    let mut out: Box<Path<1024>> = Box::new(Path::new());
+    let mut run = |algorithm, blend| {
+        let choice = PlanChoice {
+            kind: PlannerKind::Swarm(algorithm),
+            params: PlanParams {
+                blend,
+                ..PlanParams::host(algorithm)
+            },
+            aco: AcoParams::default(),
+        };
+        let r = planner.plan(g.view(), s, t, &choice, &mut *out, PlanOptions::default());
+        r.map(|o| (o, out.to_vec()))
+    };
+    let wide = Blend {
+        clearance: 2.0,
+        clearance_weight: 4.0,
+        turn_weight: 0.5,
+    };
+    for algorithm in [AlgorithmKind::Tclhho, AlgorithmKind::Igwo] {
+        let (short, short_path) = run(algorithm, Blend::LENGTH).unwrap();
+        let (blended, path) = run(algorithm, wide).unwrap();
+        assert_eq!(validate(g.view(), &path, s, t), Ok(()));
+        let (c_short, c_blend) = (
+            clearance(g.view(), &short_path, 10.0),
+            clearance(g.view(), &path, 10.0),
+        );
+        assert!(
+            c_short < 0.1,
+            "{algorithm:?} length alone: clearance {c_short}"
+        );
+        assert!(
+            c_blend >= 1.95,
+            "{algorithm:?} blended: clearance {c_blend} {path:?}"
+        );
+        assert!(blended.length < short.length * 1.1, "{blended:?} {short:?}");
+    }
+    let nan = Blend {
+        turn_weight: f32::NAN,
+        ..Blend::LENGTH
+    };
+    assert_eq!(
+        run(AlgorithmKind::Tclhho, nan).err(),
+        Some(PlanError::InvalidParameters)
     );
 }

@@ -13,24 +13,8 @@
 //!   never needs more than [`open_capacity`]`(cells)` slots; a smaller buffer is allowed and
 //!   a search that outgrows it returns [`PlanError::CapacityExceeded`].
 //!
-//! Why this layout (issue 8, firmware RAM): the open list of a grid search is its frontier,
-//! a small fraction of the map. Largest open lists measured with [`SearchStats::open_peak`]
-//! over every row of the Moving AI scenarios in `tests/data/movingai`
-//! (`cargo run --release -p planner-core --example open_peak`): 1920 on
-//! `warehouse-20-40-10-2-2` (340x164, 55760 cells; mean 311), 523 on
-//! `warehouse-10-20-10-2-2` (170x84), 123 on `random-32-32-10`, 46 on `maze-32-32-2`; on the
-//! firmware's seed-000 warehouses, from the start to any free cell, 68 (40x40) and 110
-//! (64x64). So a per-cell record that holds only what closed cells need (the parent
-//! *direction*, not the parent index nor `g`: an open cell's `g` is in its heap slot) and a
-//! heap sized by the caller cut a 64x64 map from 96 KiB (24 bytes a cell) to 16 KiB plus
-//! 12 bytes per open slot (6 KiB for 512).
-//!
-//! The alternative, one byte a cell and a lazy-deletion heap, would save 12 KiB more at
-//! 64x64 but pushes a slot for every relaxation (several per open cell) and pops the stale
-//! ones, so its heap is larger and the host search slower, and a full buffer needs a
-//! compaction pass; the decrease-key heap holds each open cell once and keeps the heap
-//! operations, hence the expansion order and the paths, of the earlier 24-byte search bit
-//! for bit (ties on `(f, g)` are broken by the heap's deterministic operation sequence).
+//! Why this layout (a 4-byte record per cell and a caller-sized decrease-key heap, not 24
+//! bytes a cell nor a lazy-deletion heap): `docs/design/astar-storage.md`.
 //!
 //! Theta* keeps [`SearchNode`](super::SearchNode): its parents are arbitrary cells, not
 //! neighbours, and it reads the `g` of closed cells.
@@ -210,11 +194,14 @@ pub fn plan_with_labels(
 
 /// The open list over `open` and the cell states in `nodes`.
 ///
-/// Every node is `NEW` when the heap is created and again when it is dropped: every cell it
-/// touched is the start or a neighbour of an expanded cell, so it lies in the bounding box
-/// of the expanded cells grown by one, and dropping clears that box row by row
-/// (O(touched region), a few word stores per row) instead of all cells. The box is kept per
-/// expansion, not per opened cell, which are several times more.
+/// Every node is `NEW` when the heap is created and again when it is dropped. The touched
+/// cells are the open ones (in the heap) and the closed ones, whose indices are recorded
+/// three to a slot in the unused top of `open` while the heap leaves room; dropping resets
+/// exactly those (O(touched), e.g. 3,600 cells for a 1,200-cell diagonal whose bounding box
+/// holds 1.44 million). When the heap grows into the record, or the record is large next to
+/// the box, dropping clears the bounding box of the expanded cells grown by one row by row
+/// instead (every touched cell is the start or a neighbour of an expanded cell). The record
+/// never takes a slot the heap needs, so capacity errors are those of the heap alone.
 struct Heap<'n> {
     nodes: &'n mut [AStarNode],
     open: &'n mut [OpenSlot],
@@ -226,6 +213,10 @@ struct Heap<'n> {
     x1: usize,
     y0: usize,
     y1: usize,
+    /// Closed cells recorded at the top of `open` (three `u32` indices a slot), while
+    /// `recording`.
+    closed: usize,
+    recording: bool,
 }
 
 impl<'n> Heap<'n> {
@@ -243,7 +234,36 @@ impl<'n> Heap<'n> {
             x1: 0,
             y0: usize::MAX,
             y1: 0,
+            closed: 0,
+            recording: true,
         }
+    }
+
+    /// Slots the closed-cell record occupies at the top of `open`.
+    #[inline]
+    fn record_slots(&self) -> usize {
+        self.closed.div_ceil(3)
+    }
+
+    /// Records closed cell `cell` at the top of `open`, or stops recording when the heap
+    /// needs that room.
+    #[inline]
+    fn record_closed(&mut self, cell: u32) {
+        if !self.recording {
+            return;
+        }
+        let slot_pos = self.open.len() - 1 - self.closed / 3;
+        if slot_pos <= self.len {
+            self.recording = false;
+            return;
+        }
+        let slot = &mut self.open[slot_pos];
+        match self.closed % 3 {
+            0 => slot.f = cell,
+            1 => slot.not_g = cell,
+            _ => slot.cell_dir = cell,
+        }
+        self.closed += 1;
     }
 
     #[inline]
@@ -275,6 +295,10 @@ impl<'n> Heap<'n> {
         let pos = if state == NEW {
             if self.len == self.open.len() {
                 return Err(PlanError::CapacityExceeded);
+            }
+            if self.recording && self.len + self.record_slots() >= self.open.len() {
+                // The heap's next slot holds part of the record: the box clears instead.
+                self.recording = false;
             }
             self.len += 1;
             self.peak = self.peak.max(self.len);
@@ -321,10 +345,11 @@ impl<'n> Heap<'n> {
         }
         let cell = (top.cell_dir >> 3) as usize;
         self.nodes[cell].0 = CLOSED | (top.cell_dir & 7) << DIR_SHIFT;
+        self.record_closed(cell as u32);
         Some((cell, top.g()))
     }
 
-    /// Writes the path from `start` to `goal` (closed) into `out`, start first, by walking
+    /// Writes the path from `start` to `goal` (closed) into `out`, start first, by following
     /// the stored directions back from `goal`.
     fn write_path(
         &self,
@@ -399,6 +424,29 @@ impl Drop for Heap<'_> {
         let height = self.nodes.len() / self.width.max(1);
         let (x0, x1) = (self.x0.saturating_sub(1), (self.x1 + 1).min(self.width - 1));
         let (y0, y1) = (self.y0.saturating_sub(1), (self.y1 + 1).min(height - 1));
+        let boxed = (x1 - x0 + 1) * (y1 - y0 + 1);
+        // Scattered stores cost several times a sequential fill per cell.
+        if self.recording && 8 * (self.closed + self.len) < boxed {
+            let top = self.open.len();
+            for k in 0..self.closed {
+                let slot = &self.open[top - 1 - k / 3];
+                let cell = match k % 3 {
+                    0 => slot.f,
+                    1 => slot.not_g,
+                    _ => slot.cell_dir,
+                };
+                if let Some(node) = self.nodes.get_mut(cell as usize) {
+                    *node = AStarNode::EMPTY;
+                }
+            }
+            for pos in 0..self.len {
+                let cell = (self.open[pos].cell_dir >> 3) as usize;
+                if let Some(node) = self.nodes.get_mut(cell) {
+                    *node = AStarNode::EMPTY;
+                }
+            }
+            return;
+        }
         for y in y0..=y1 {
             let row = y * self.width;
             if let Some(cells) = self.nodes.get_mut(row + x0..=row + x1) {
@@ -564,5 +612,26 @@ mod tests {
         );
         assert_eq!(r, Err(PlanError::NoValidPath));
         assert!(nodes.iter().all(|n| *n == AStarNode::EMPTY));
+    }
+
+    /// The diagonal of an open map: the record of closed cells resets exactly the touched
+    /// cells (the box is the whole map); with an open list too short for the record, the
+    /// box does; either way the nodes end reset and the paths agree.
+    #[test]
+    fn touched_cells_reset_with_and_without_the_record() {
+        const W: usize = 64;
+        let g: Grid<{ words_for(W, W) }> = Grid::new(W, W).unwrap();
+        let (s, t) = (Cell::new(0, 0), Cell::new(W as u16 - 1, W as u16 - 1));
+        let mut nodes = [AStarNode::EMPTY; W * W];
+        let mut out: Path<128> = Path::new();
+        let mut open = [OpenSlot::EMPTY; W * W];
+        let full = plan(g.view(), s, t, &mut nodes, &mut open, &mut out).unwrap();
+        assert_eq!(full.expanded as usize, W);
+        assert!(nodes.iter().all(|n| *n == AStarNode::EMPTY));
+        // Room for the heap, not for the record of 64 closed cells beside it.
+        let slots = full.open_peak as usize + 1;
+        let short = plan(g.view(), s, t, &mut nodes, &mut open[..slots], &mut out).unwrap();
+        assert!(nodes.iter().all(|n| *n == AStarNode::EMPTY));
+        assert_eq!(short, full);
     }
 }

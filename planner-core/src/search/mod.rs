@@ -36,6 +36,7 @@ pub mod astar;
 pub mod connectivity;
 pub mod theta;
 #[cfg(feature = "alloc")]
+#[cfg_attr(docsrs, doc(cfg(feature = "alloc")))]
 pub mod visibility;
 
 use crate::error::PlanError;
@@ -105,6 +106,7 @@ impl<const N: usize> Default for SearchStorage<N> {
 
 /// What a reference search reports besides the path.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct SearchStats {
     /// Length of the returned path (cell units).
@@ -460,22 +462,33 @@ pub(crate) struct Step {
     pub h: f32,
 }
 
+/// What [`best_first`] searches: the map, the endpoints and, if given, the map's component
+/// labels (an unreachable goal is then refused before the search).
+pub(crate) struct Query<'a> {
+    pub grid: GridRef<'a>,
+    pub start: Cell,
+    pub goal: Cell,
+    pub labels: Option<&'a [u32]>,
+}
+
 /// A best-first loop over [`SearchNode`]s: endpoint checks, storage and reachability checks,
 /// the open list, the allowed 8-connected moves, and the path at the end; the planner gives
 /// the heuristic and how a neighbour is relaxed (`relax`, called for every allowed move to a
 /// cell that is not closed yet). Theta* runs on it; A* has its own loop over compact storage
 /// (see [`astar`]), since its parents are neighbours and it never reads a closed cell's `g`.
-#[allow(clippy::too_many_arguments)]
 pub(crate) fn best_first(
-    grid: GridRef<'_>,
-    start: Cell,
-    goal: Cell,
-    labels: Option<&[u32]>,
+    query: Query<'_>,
     nodes: &mut [SearchNode],
     out: &mut PathView,
     heuristic: fn(isize, isize, isize, isize) -> f32,
     mut relax: impl FnMut(&mut Open<'_>, &Step),
 ) -> Result<SearchStats, PlanError> {
+    let Query {
+        grid,
+        start,
+        goal,
+        labels,
+    } = query;
     check_endpoints(grid, start, goal)?;
     if nodes.len() < grid.cells() {
         return Err(PlanError::CapacityExceeded);

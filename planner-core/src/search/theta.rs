@@ -5,7 +5,7 @@
 //! than A*'s: every relaxation offers at most the grid step's cost (triangle inequality), so
 //! the first time the goal is closed its cost is at most the octile optimum.
 
-use super::{SearchNode, SearchStats, best_first, euclid_xy};
+use super::{Query, SearchNode, SearchStats, best_first, euclid_xy};
 use crate::error::PlanError;
 use crate::geometry::{Cell, line_of_sight};
 use crate::grid::GridRef;
@@ -33,30 +33,27 @@ pub fn plan_with_labels(
     out: &mut PathView,
 ) -> Result<SearchStats, PlanError> {
     let width = grid.width() as isize;
-    best_first(
+    let query = Query {
         grid,
         start,
         goal,
         labels,
-        nodes,
-        out,
-        euclid_xy,
-        |open, s| {
-            // Path 1: straight from the expanded cell's parent, if it sees the neighbour.
-            let parent = open.node(s.i).parent as usize;
-            if parent != s.i && line_of_sight(grid, grid.cell(parent), grid.cell(s.j)) {
-                let (px, py) = ((parent as isize) % width, (parent as isize) / width);
-                open.relax(
-                    s.j,
-                    open.g(parent) + euclid_xy(px, py, s.nx, s.ny),
-                    s.h,
-                    parent,
-                );
-            } else {
-                open.relax(s.j, open.g(s.i) + s.cost, s.h, s.i);
-            }
-        },
-    )
+    };
+    best_first(query, nodes, out, euclid_xy, |open, s| {
+        // Path 1: straight from the expanded cell's parent, if it sees the neighbour.
+        let parent = open.node(s.i).parent as usize;
+        if parent != s.i && line_of_sight(grid, grid.cell(parent), grid.cell(s.j)) {
+            let (px, py) = ((parent as isize) % width, (parent as isize) / width);
+            open.relax(
+                s.j,
+                open.g(parent) + euclid_xy(px, py, s.nx, s.ny),
+                s.h,
+                parent,
+            );
+        } else {
+            open.relax(s.j, open.g(s.i) + s.cost, s.h, s.i);
+        }
+    })
 }
 
 #[cfg(test)]

@@ -1,15 +1,15 @@
-//! Plane-by-plane discrete ant colony (seed 001's ACO baseline).
+//! Plane-by-plane discrete ant colony (`Zhu2025Orchard`'s ACO baseline).
 //!
 //! Each interior plane `j` of the [`PlaneEncoding`](super::planes::PlaneEncoding) is discretised into `nodes` lateral
-//! positions spread evenly over its bounds. An ant walks from the start through one node per
+//! positions spread evenly over its bounds. An ant goes from the start through one node per
 //! plane to the goal. From point `p`, node `c` of the next plane is chosen with weight
 //! `tau^alpha eta^beta`, `eta = 1 / (|p c| + |c G| + intrusion)` (3D distances on the terrain,
 //! `intrusion` = the objective's penalty if segment `p -> c` cuts an obstacle's
 //! `radius + margin`). With probability `delta` the choice is the roulette, otherwise the
-//! node of largest weight (seed 001's table 1 gives `delta = 0.7` as "the randomness of the
-//! choice"). Each complete walk is one evaluation of the full objective. After every
+//! node of largest weight (`Zhu2025Orchard`'s table 1 gives `delta = 0.7` as "the randomness of the
+//! choice"). Each complete tour is one evaluation of the full objective. After every
 //! iteration: `tau <- (1 - rho) tau`, then each ant deposits `Q / F` on its nodes and the
-//! best-so-far walk deposits `Q / F_best` again (elitist), `tau >= 1e-6`.
+//! best-so-far tour deposits `Q / F_best` again (elitist), `tau >= 1e-6`.
 //!
 //! Draws (one [`Random`] per run): per ant, per plane: one `unit` for the `delta` test, and one
 //! `unit` for the roulette when it is used.
@@ -44,9 +44,9 @@ pub struct AcoParams {
 }
 
 impl AcoParams {
-    /// Seed 001's table 1 (`alpha = 1, beta = 3, rho = 0.2, Q = 1, delta = 0.7`) with 100
+    /// `Zhu2025Orchard`'s table 1 (`alpha = 1, beta = 3, rho = 0.2, Q = 1, delta = 0.7`) with 100
     /// ants, 500 iterations and 21 nodes per plane.
-    pub const fn seed_001() -> Self {
+    pub const fn zhu2025_orchard() -> Self {
         Self {
             ants: 100,
             iterations: 500,
@@ -86,18 +86,19 @@ impl AcoParams {
 
 impl Default for AcoParams {
     fn default() -> Self {
-        Self::seed_001()
+        Self::zhu2025_orchard()
     }
 }
 
 /// The outcome of [`Aco::run`].
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct AcoReport {
     /// Best `F`.
     pub best_cost: f32,
     /// Iterations done.
     pub iterations: u32,
-    /// Objective evaluations (one per ant walk).
+    /// Objective evaluations (one per ant tour).
     pub evaluations: u64,
     /// First iteration (1-based) reaching the best.
     pub best_iteration: u32,
@@ -268,7 +269,7 @@ impl<const PLANES: usize, const NODES: usize> Aco<PLANES, NODES> {
                     deposit[j][choice[j]] += d;
                 }
             }
-            // Elitist deposit on the best-so-far walk.
+            // Elitist deposit on the best-so-far tour.
             let e = if best_cost.is_finite() && best_cost > 0.0 {
                 params.q / best_cost
             } else {
@@ -327,17 +328,17 @@ mod tests {
 
     #[test]
     fn aco_avoids_an_obstacle_on_the_straight_line_and_is_deterministic() {
-        let map = Heightmap::<484>::peaks(22, 22, 1.0, &Peaks::seed_001(), 3).unwrap();
+        let map = Heightmap::<484>::peaks(22, 22, 1.0, &Peaks::zhu2025_orchard(), 3).unwrap();
         let v = map.view();
         let enc =
             PlaneEncoding::new(&v, (1.0, 10.0), (21.0, 10.0), 20, HeightMode::Terrain).unwrap();
         let obs = [Obstacle::cylinder(11.0, 10.0, 1.5, 0.0, 0.5).unwrap()];
-        let obj = TerrainObjective::new(v, &obs, enc, ObjectiveParams::seed_001()).unwrap();
+        let obj = TerrainObjective::new(v, &obs, enc, ObjectiveParams::zhu2025_orchard()).unwrap();
         let params = AcoParams {
             ants: 20,
             iterations: 30,
             seed: 9,
-            ..AcoParams::seed_001()
+            ..AcoParams::zhu2025_orchard()
         };
         let mut aco = Aco::<24, 32>::new();
         let mut hist = [0.0f32; 30];

@@ -1,11 +1,13 @@
-//! 3D terrain planning (SPEC section 4, seed 001): a heightmap, cylinder and cone obstacles,
-//! the plane-by-plane path encoding, seed 001's objective and a plane-by-plane ACO.
+//! 3D terrain planning (SPEC section 4, `Zhu2025Orchard`): a heightmap, cylinder and cone obstacles,
+//! the plane-by-plane path encoding, `Zhu2025Orchard`'s objective and a plane-by-plane ACO.
+//!
+//! Behind the `terrain` feature (on by default).
 //!
 //! # Units and axes
-//! One unit system, **kilometres**, horizontally and vertically (seed 001's map is
+//! One unit system, **kilometres**, horizontally and vertically (`Zhu2025Orchard`'s map is
 //! 21 km x 21 km x 2 km). A heightmap of `w x h` samples with spacing `s` km covers
 //! `[0, (w - 1) s] x [0, (h - 1) s]`; sample `(i, j)` is the height at `(i s, j s)`, stored
-//! row by row (`z[j * w + i]`). With `s = 1` and `22 x 22` samples, seed 001's 1-based
+//! row by row (`z[j * w + i]`). With `s = 1` and `22 x 22` samples, `Zhu2025Orchard`'s 1-based
 //! coordinates (start `(1, 15)`, goal `(21, 8)`, obstacles at `(11, 16)`, `(12, 4)`) are used
 //! as they are printed.
 //!
@@ -16,13 +18,13 @@
 //! - [`obstacles`]: vertical cylinders and cones, distances and inside tests;
 //! - [`planes`]: the plane-by-plane encoding (lateral offset per interior plane, heights as
 //!   decision variables in the literal mode);
-//! - [`objective`]: `F = w1 E + w2 L + (1 - w1 - w2) T` with seed 001's energy eq. (3);
+//! - [`objective`]: `F = w1 E + w2 L + (1 - w1 - w2) T` with `Zhu2025Orchard`'s energy eq. (3);
 //! - [`aco`]: the plane-by-plane discrete ant colony.
 //!
 //! ```
 //! use planner_core::terrain::{Heightmap, Peaks};
 //!
-//! let map = Heightmap::<484>::peaks(22, 22, 1.0, &Peaks::seed_001(), 7)?;
+//! let map = Heightmap::<484>::peaks(22, 22, 1.0, &Peaks::zhu2025_orchard(), 7)?;
 //! let view = map.view();
 //! let z = view.height(10.5, 3.25)?;
 //! assert!(z >= 0.0 && z <= 2.0);
@@ -38,6 +40,7 @@ use crate::optim::random::Random;
 
 /// Why a terrain operation refused its input.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum TerrainError {
     /// A size is below 2 x 2 samples, or the samples do not match `w x h`.
@@ -222,9 +225,9 @@ pub struct Peaks {
 }
 
 impl Peaks {
-    /// Hilly orchard terrain like seed 001's figures: 8 peaks of 0.4 to 1.6 km, 1.5 to 4 km
+    /// Hilly orchard terrain like `Zhu2025Orchard`'s figures: 8 peaks of 0.4 to 1.6 km, 1.5 to 4 km
     /// wide, on a 0.2 km base, at most 2 km.
-    pub const fn seed_001() -> Self {
+    pub const fn zhu2025_orchard() -> Self {
         Self {
             count: 8,
             base: 0.2,
@@ -384,21 +387,21 @@ mod tests {
             Some(TerrainError::InvalidParameter("height sample"))
         );
         assert_eq!(
-            Heightmap::<400>::peaks(22, 22, 1.0, &Peaks::seed_001(), 1).err(),
+            Heightmap::<400>::peaks(22, 22, 1.0, &Peaks::zhu2025_orchard(), 1).err(),
             Some(TerrainError::CapacityExceeded)
         );
         let bad = Peaks {
             count: 0,
-            ..Peaks::seed_001()
+            ..Peaks::zhu2025_orchard()
         };
         assert!(Heightmap::<484>::peaks(22, 22, 1.0, &bad, 1).is_err());
     }
 
     #[test]
     fn peaks_are_seeded_and_bounded() {
-        let a = Heightmap::<961>::peaks(31, 31, 1.0, &Peaks::seed_001(), 5).unwrap();
-        let b = Heightmap::<961>::peaks(31, 31, 1.0, &Peaks::seed_001(), 5).unwrap();
-        let c = Heightmap::<961>::peaks(31, 31, 1.0, &Peaks::seed_001(), 6).unwrap();
+        let a = Heightmap::<961>::peaks(31, 31, 1.0, &Peaks::zhu2025_orchard(), 5).unwrap();
+        let b = Heightmap::<961>::peaks(31, 31, 1.0, &Peaks::zhu2025_orchard(), 5).unwrap();
+        let c = Heightmap::<961>::peaks(31, 31, 1.0, &Peaks::zhu2025_orchard(), 6).unwrap();
         assert_eq!(a.view().samples(), b.view().samples());
         assert_ne!(a.view().samples(), c.view().samples());
         let (lo, hi) = a.view().range();

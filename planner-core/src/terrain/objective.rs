@@ -1,11 +1,11 @@
-//! Seed 001's objective `F = w1 E + w2 L + (1 - w1 - w2) T` (eq. (1)).
+//! `Zhu2025Orchard`'s objective `F = w1 E + w2 L + (1 - w1 - w2) T` (eq. (1)).
 //!
 //! - `L` (eq. (2)): the 3D length of the path. In the terrain mode each segment between two
 //!   planes is the straight horizontal segment draped over the terrain, measured with
 //!   `subdivisions` chords (1 = eq. (2) literally: one chord per plane step).
 //! - `E` (eq. (3)): `E = E1 + sum_i (A v^2 + B a^2 + C mu + D l0) S_i (+ climb * ascent)`.
 //!   With constant speed, acceleration, friction and load this is `E1 + k L`; the paper's
-//!   tables show `E = 6.5 L` exactly, and [`EnergyModel::seed_001`] is a split of `k = 6.5`
+//!   tables show `E = 6.5 L` exactly, and [`EnergyModel::zhu2025_orchard`] is a split of `k = 6.5`
 //!   (`E1 = 0`, no climb term). The `climb` term (energy per km of ascent) is ours, 0 by
 //!   default.
 //! - `T`: the printed term (sum of distances to obstacle centres, eqs. (4)-(6)) *rewards*
@@ -19,7 +19,7 @@ use super::planes::{HeightMode, MAX_PLANES, PlaneEncoding};
 use super::{Point3, TerrainError, TerrainView};
 use crate::optim::Objective;
 
-/// Seed 001's energy model, eq. (3), with constant per-segment factors.
+/// `Zhu2025Orchard`'s energy model, eq. (3), with constant per-segment factors.
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct EnergyModel {
@@ -41,13 +41,13 @@ pub struct EnergyModel {
     pub d: f32,
     /// `l0`, load.
     pub load: f32,
-    /// Energy per km of ascent (ours; 0 in seed 001).
+    /// Energy per km of ascent (ours; 0 in `Zhu2025Orchard`).
     pub climb: f32,
 }
 
 impl EnergyModel {
     /// `E = 6.5 L`: `A v^2 = 1 * 2^2`, `B a^2 = 1 * 0.5^2`, `C mu = 1 * 0.25`, `D l0 = 1 * 2`.
-    pub const fn seed_001() -> Self {
+    pub const fn zhu2025_orchard() -> Self {
         Self {
             e1: 0.0,
             a: 1.0,
@@ -90,7 +90,7 @@ impl EnergyModel {
 
 impl Default for EnergyModel {
     fn default() -> Self {
-        Self::seed_001()
+        Self::zhu2025_orchard()
     }
 }
 
@@ -113,12 +113,12 @@ pub struct ObjectiveParams {
 }
 
 impl ObjectiveParams {
-    /// Seed 001 as SPEC resolves it; the paper prints no weights: `w1 = w2 = 0.4` (ours).
-    pub const fn seed_001() -> Self {
+    /// `Zhu2025Orchard` as SPEC resolves it; the paper prints no weights: `w1 = w2 = 0.4` (ours).
+    pub const fn zhu2025_orchard() -> Self {
         Self {
             w1: 0.4,
             w2: 0.4,
-            energy: EnergyModel::seed_001(),
+            energy: EnergyModel::zhu2025_orchard(),
             margin: 0.05,
             penalty: 1.0e4,
             subdivisions: 4,
@@ -145,7 +145,7 @@ impl ObjectiveParams {
 
 impl Default for ObjectiveParams {
     fn default() -> Self {
-        Self::seed_001()
+        Self::zhu2025_orchard()
     }
 }
 
@@ -353,7 +353,7 @@ mod tests {
         let v = map.view();
         let enc =
             PlaneEncoding::new(&v, (1.0, 15.0), (21.0, 8.0), 20, HeightMode::Terrain).unwrap();
-        let obj = TerrainObjective::new(v, &[], enc, ObjectiveParams::seed_001()).unwrap();
+        let obj = TerrainObjective::new(v, &[], enc, ObjectiveParams::zhu2025_orchard()).unwrap();
         let e = obj.evaluate(&[0.0; 20]);
         let l = libm::sqrtf(400.0 + 49.0);
         assert!((e.length - l).abs() < 1e-3, "{}", e.length);
@@ -371,7 +371,8 @@ mod tests {
         let enc =
             PlaneEncoding::new(&v, (1.0, 10.0), (21.0, 10.0), 20, HeightMode::Terrain).unwrap();
         let obs = [Obstacle::cylinder(11.0, 10.0, 1.0, 0.3, 0.5).unwrap()];
-        let obj = TerrainObjective::new(v, &obs, enc.clone(), ObjectiveParams::seed_001()).unwrap();
+        let obj = TerrainObjective::new(v, &obs, enc.clone(), ObjectiveParams::zhu2025_orchard())
+            .unwrap();
         let straight = obj.evaluate(&[0.0; 20]);
         assert!(straight.obstacle >= 1.0e4 && straight.min_clearance < 0.0);
         // A detour two km to the side is free.
@@ -385,13 +386,14 @@ mod tests {
         assert!(detour.cost < straight.cost);
         let inside = [Obstacle::cone(1.5, 10.0, 1.0, 0.3, 0.5).unwrap()];
         assert_eq!(
-            TerrainObjective::new(v, &inside, enc.clone(), ObjectiveParams::seed_001()).err(),
+            TerrainObjective::new(v, &inside, enc.clone(), ObjectiveParams::zhu2025_orchard())
+                .err(),
             Some(TerrainError::InsideObstacle)
         );
         let bad = ObjectiveParams {
             w1: 0.6,
             w2: 0.5,
-            ..ObjectiveParams::seed_001()
+            ..ObjectiveParams::zhu2025_orchard()
         };
         assert!(TerrainObjective::new(v, &[], enc, bad).is_err());
     }
@@ -401,7 +403,7 @@ mod tests {
         let map = flat();
         let v = map.view();
         let enc = PlaneEncoding::new(&v, (1.0, 10.0), (21.0, 10.0), 5, HeightMode::Free).unwrap();
-        let obj = TerrainObjective::new(v, &[], enc, ObjectiveParams::seed_001()).unwrap();
+        let obj = TerrainObjective::new(v, &[], enc, ObjectiveParams::zhu2025_orchard()).unwrap();
         let mut x = [0.0f32; 10];
         x[5..].fill(0.3);
         assert_eq!(obj.evaluate(&x).obstacle, 0.0);

@@ -1,4 +1,4 @@
-//! Vertical cylinders and cones standing on the terrain (seed 001's obstacle models).
+//! Vertical cylinders and cones standing on the terrain (`Zhu2025Orchard`'s obstacle models).
 //!
 //! A ground robot meets an obstacle at its foot, so both shapes block the disc of their base
 //! radius; a cone narrows with height ([`Obstacle::radius_at`]) which only matters for

@@ -1,4 +1,4 @@
-//! The plane-by-plane encoding (SPEC section 4, seed 001 section 1.2).
+//! The plane-by-plane encoding (SPEC section 4, `Zhu2025Orchard` section 1.2).
 //!
 //! The straight line from start `S` to goal `G` is cut into `n + 1` equal parts; the `n`
 //! planes through the cut points are perpendicular to it (vertical planes). Decision variable
@@ -7,7 +7,7 @@
 //! that the waypoint stays on the map; the map is convex, so the whole polyline does.
 //!
 //! Heights: in [`HeightMode::Terrain`] (the default, a ground robot) the height is the
-//! terrain's; in [`HeightMode::Free`] (seed 001's literal reading, `d = 2n`) variables
+//! terrain's; in [`HeightMode::Free`] (`Zhu2025Orchard`'s literal reading, `d = 2n`) variables
 //! `n..2n` are the waypoints' heights, bounded by the terrain's range, and the objective
 //! penalises waypoints below the ground.
 

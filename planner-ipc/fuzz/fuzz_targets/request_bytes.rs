@@ -28,8 +28,8 @@ use planner_core::path;
 use planner_ipc::engine::{Engine, MapUpdate, Scratch};
 use planner_ipc::wire::{
     Algorithm, Failure, LAYOUT_ROWS, LAYOUT_ROWS_AND_COLUMNS, MapHeader, MapMsg, PlanParams,
-    PlanRequest, PlanResponseHeader, PlanResult, RequestKind, ServiceError, decode_status,
-    first_disagreement, frame_grid, grid_from_bits, to_cell,
+    PlanRequest, PlanResponseHeader, PlanResult, RequestKind, ServiceError, WIRE_VERSION,
+    decode_status, first_disagreement, frame_grid, grid_from_bits, to_cell,
 };
 use std::cell::RefCell;
 use std::collections::HashMap;
@@ -61,48 +61,63 @@ fn take<const N: usize>(u: &mut Unstructured<'_>) -> [u8; N] {
     out
 }
 
-/// A `MapHeader` from its 32 `#[repr(C)]` bytes.
+fn u16_at(b: &[u8], i: usize) -> u16 {
+    u16::from_le_bytes(b[i..i + 2].try_into().unwrap())
+}
+
+/// Mostly the current wire version (a version byte below 0xf0), sometimes garbage.
+fn version(raw: u16) -> u16 {
+    if raw & 0xff < 0xf0 { WIRE_VERSION } else { raw }
+}
+
+/// A `MapHeader` from its 32 `#[repr(C)]` bytes (wire v1 offsets).
 fn map_header(b: &[u8; 32]) -> MapHeader {
+    assert_eq!(std::mem::size_of::<MapHeader>(), 32);
     MapHeader {
-        map_id: u32_at(b, 0),
-        version: u32_at(b, 4),
-        width: u32_at(b, 8),
-        height: u32_at(b, 12),
-        resolution: f32_at(b, 16),
-        origin: [f32_at(b, 20), f32_at(b, 24)],
+        wire_version: version(u16_at(b, 0)),
         // Mostly the two known layouts, sometimes garbage.
-        layout: match u32_at(b, 28) {
-            l if l < 0x8000_0000 => l % 2,
+        layout: match b[2] {
+            l if l < 0x80 => l % 2,
             l => l,
         },
+        reserved: if b[3] < 0xf0 { 0 } else { b[3] },
+        map_id: u32_at(b, 4),
+        map_version: u32_at(b, 8),
+        width: u32_at(b, 12),
+        height: u32_at(b, 16),
+        resolution: f32_at(b, 20),
+        origin: [f32_at(b, 24), f32_at(b, 28)],
     }
 }
 
-/// A `PlanRequest` from its 104 `#[repr(C)]` bytes (no padding in the layout).
+/// A `PlanRequest` from its 104 `#[repr(C)]` bytes (wire v1 offsets, no padding).
 fn plan_request(b: &[u8; 104]) -> PlanRequest {
     assert_eq!(std::mem::size_of::<PlanRequest>(), 104);
-    let mut extra = [0.0f32; 5];
-    for (k, e) in extra.iter_mut().enumerate() {
-        *e = f32_at(b, 84 + 4 * k);
-    }
     PlanRequest {
-        request_id: u64_at(b, 0),
-        seed: u64_at(b, 8),
-        deadline_us: u64_at(b, 16),
-        wake_token: u64_at(b, 24),
-        polls_until_ns: u64_at(b, 32),
-        map_id: u32_at(b, 40),
-        map_version: u32_at(b, 44),
-        start: [u32_at(b, 48) as i32, u32_at(b, 52) as i32],
-        goal: [u32_at(b, 56) as i32, u32_at(b, 60) as i32],
-        algorithm: b[64],
-        kind: b[65],
-        reserved: b[66..72].try_into().unwrap(),
+        wire_version: version(u16_at(b, 0)),
+        kind: b[2],
+        algorithm: b[3],
+        reserved: if b[4] < 0xf0 { 0 } else { u32_at(b, 4) },
+        request_id: u64_at(b, 8),
+        seed: u64_at(b, 16),
+        deadline_us: u64_at(b, 24),
+        wake_token: u64_at(b, 32),
+        polls_until_ns: u64_at(b, 40),
+        map_id: u32_at(b, 48),
+        map_version: u32_at(b, 52),
+        start: [u32_at(b, 56) as i32, u32_at(b, 60) as i32],
+        goal: [u32_at(b, 64) as i32, u32_at(b, 68) as i32],
         params: PlanParams {
             radius: f32_at(b, 72),
-            population: f32_at(b, 76),
-            iterations: f32_at(b, 80),
-            extra,
+            population: u32_at(b, 76),
+            iterations: u32_at(b, 80),
+            stagnation: u32_at(b, 84),
+            // Mostly zero (this build plans for length only), sometimes any bits.
+            clearance: if b[100] < 0xf0 { 0.0 } else { f32_at(b, 88) },
+            clearance_weight: if b[101] < 0xf0 { 0.0 } else { f32_at(b, 92) },
+            turn_weight: if b[102] < 0xf0 { 0.0 } else { f32_at(b, 96) },
+            guide: b[100],
+            reserved: if b[103] < 0xf0 { [0; 3] } else { [b[101], b[102], b[103]] },
         },
     }
 }
@@ -119,10 +134,12 @@ fn frame(engine: &Engine, model: &mut Model, header: &MapHeader, words: &[u32]) 
         LAYOUT_ROWS_AND_COLUMNS => 2,
         _ => 0,
     };
-    let grid = match layouts {
-        1 => grid_from_bits(header.width, header.height, words, max),
+    let grid = match (header.check(), layouts) {
+        // The server checks the version, layout and reserved byte first.
+        (Err(e), _) => Err(e),
+        (Ok(()), 1) => grid_from_bits(header.width, header.height, words, max),
         // The copy a server with worker threads makes (one planning inline keeps the view).
-        _ => frame_grid(header, words, max).map(GridBuf::from_view),
+        (Ok(()), _) => frame_grid(header, words, max).map(GridBuf::from_view),
     };
     let needed = w.checked_mul(h);
     match &grid {
@@ -160,7 +177,14 @@ fn frame(engine: &Engine, model: &mut Model, header: &MapHeader, words: &[u32]) 
             }
         }
         Err(e) => {
-            let expected = if layouts == 0 || w == 0 || h == 0 {
+            let expected = if header.wire_version != WIRE_VERSION {
+                ServiceError::UnsupportedVersion
+            } else if layouts == 0
+                || header.reserved != 0
+                || header.map_version == 0
+                || w == 0
+                || h == 0
+            {
                 ServiceError::InvalidRequest
             } else if w > 65_535 || h > 65_535 || needed.is_none_or(|c| c > MAX_CELLS) {
                 ServiceError::MapTooLarge
@@ -172,9 +196,11 @@ fn frame(engine: &Engine, model: &mut Model, header: &MapHeader, words: &[u32]) 
     }
     let kept = grid.clone();
     let meta = header.meta();
-    let newer = model
-        .get(&meta.map_id)
-        .is_none_or(|(v, _)| *v < meta.version);
+    // Versions count from 1: a frame of version 0 is never stored.
+    let newer = meta.version > 0
+        && model
+            .get(&meta.map_id)
+            .is_none_or(|(v, _)| *v < meta.version);
     let update = engine.store.update(meta, grid);
     match update {
         MapUpdate::Outdated => assert!(!newer, "a newer version was ignored"),
@@ -199,9 +225,9 @@ fn frame(engine: &Engine, model: &mut Model, header: &MapHeader, words: &[u32]) 
 fn request(engine: &Engine, model: &Model, mut req: PlanRequest) {
     // Keep accepted requests fast: huge swarm counts are valid but slow.
     if req.params.validate().is_ok() {
-        req.params.population = (req.params.population as u32 % 24) as f32;
-        req.params.iterations = (req.params.iterations as u32 % 12 + 1) as f32;
-        req.params.extra[0] = (req.params.extra[0] as u32 % 8) as f32;
+        req.params.population %= 24;
+        req.params.iterations = req.params.iterations % 12 + 1;
+        req.params.stagnation %= 8;
         assert!(req.params.validate().is_ok());
     }
     let result: PlanResult =
@@ -210,9 +236,12 @@ fn request(engine: &Engine, model: &Model, mut req: PlanRequest) {
 
     // The expected refusal, by the documented order of checks.
     let expected: Option<Failure> = (|| {
-        let kind = match req.kind {
-            0 => RequestKind::Plan,
-            1 => RequestKind::MapStatus,
+        if req.wire_version != WIRE_VERSION {
+            return Some(ServiceError::UnsupportedVersion.into());
+        }
+        let kind = match (req.kind, req.reserved) {
+            (0, 0) => RequestKind::Plan,
+            (1, 0) => RequestKind::MapStatus,
             _ => return Some(ServiceError::InvalidRequest.into()),
         };
         let Some((version, map)) = model.get(&req.map_id) else {
@@ -269,9 +298,10 @@ fn request(engine: &Engine, model: &Model, mut req: PlanRequest) {
         (None, Ok(ok)) => {
             let (_, map) = &model[&req.map_id];
             let g = map.as_ref().unwrap();
-            if req.kind == RequestKind::MapStatus as u8 {
+            if req.kind == RequestKind::MapStatus.code() {
+                let facts = result.map.expect("a held map's facts");
                 assert_eq!(
-                    (ok.turns as usize, ok.evaluations as usize),
+                    (facts.width as usize, facts.height as usize),
                     (g.width(), g.height())
                 );
                 assert!(ok.path.is_empty());
@@ -299,7 +329,7 @@ fn request(engine: &Engine, model: &Model, mut req: PlanRequest) {
     }
 
     // The response as the server writes it and the client reads it.
-    let header = PlanResponseHeader::new(&req, &result);
+    let header = PlanResponseHeader::new(&req, &result.borrowed(), MAX_CELLS);
     assert!(
         decode_status(header.status).is_some(),
         "unknown status {}",
@@ -310,6 +340,7 @@ fn request(engine: &Engine, model: &Model, mut req: PlanRequest) {
     let decoded = header.decode(&waypoints).expect("own response decodes");
     assert_eq!(decoded.request_id, result.request_id);
     assert_eq!(decoded.outcome, result.outcome);
+    assert_eq!(decoded.map, result.map);
     // And in the byte-stream form.
     let bytes = postcard::to_allocvec(&result).unwrap();
     let back: PlanResult = postcard::from_bytes(&bytes).unwrap();
@@ -342,12 +373,13 @@ fuzz_target!(|data: &[u8]| {
                 if let Ok(msg) = postcard::from_bytes::<MapMsg>(bytes) {
                     let header = MapHeader {
                         map_id: msg.meta.map_id,
-                        version: msg.meta.version,
+                        map_version: msg.meta.version,
                         width: msg.width,
                         height: msg.height,
                         resolution: msg.meta.resolution,
                         origin: msg.meta.origin,
                         layout: LAYOUT_ROWS,
+                        ..MapHeader::default()
                     };
                     // `MapMsg::to_grid` is `grid_from_bits` on the same fields.
                     assert_eq!(

@@ -7,7 +7,13 @@
 //!                (--queries Q.txt | --start X,Y --goal X,Y) [--frame cells|world]
 //!                [--seed N] [--radius R | --robot-radius M] [--unknown blocked|free]
 //!                [--timeout-ms 1000] [--out RESULTS.jsonl]
+//! planner-client --transport zenoh [--connect tcp/127.0.0.1:7447]... [--mode peer|client]
+//!                [--request query|pair] [--zenoh-config FILE] [--map-connect ENDPOINT]...
+//!                upload|plan ...
 //! ```
+//! Over Zenoh (feature `zenoh`) the same commands print the same lines; a request that
+//! loses its planner or route on the way is resent (same id) until `--timeout-ms` plus a
+//! margin, and no planner at all is an error at once (exit status 1).
 //! Maps are read by the loader every `host-sim` command uses (`planner-mapfile`: Moving AI
 //! `.map`, ROS `map_server` YAML + PGM/PNG), up to the size the planner service takes. A
 //! ROS map's resolution and origin go with the upload; `--frame world` takes starts, goals
@@ -22,9 +28,10 @@
 use crate::client::{ClientConfig, ClientError, MapTooLarge, PlannerClient, Refusal, Wait};
 use crate::jsonl::{self, Endpoint, ErrorLine, LineContext, PathLine, Query, QueryLine};
 use crate::services::Names;
-use crate::wire::{Algorithm, MapMeta, PlanParams, PlanRequest};
+use crate::wire::{Algorithm, MapMeta, PlanOk, PlanParams, PlanRequest};
 use anyhow::Context;
 use clap::{Parser, Subcommand};
+use planner_core::grid::GridRef;
 use planner_mapfile::frame::parse_point;
 use planner_mapfile::{Frame, LoadedMap, MapLoadError, MapOptions, Unknown, load_map};
 use std::io::{BufWriter, Write};
@@ -44,11 +51,57 @@ struct Cli {
     /// Service name prefix (same as the server's).
     #[arg(long, default_value = "planner", global = true)]
     prefix: String,
-    /// Spin while waiting for answers instead of sleeping.
+    /// Spin while waiting for answers instead of sleeping (iceoryx2).
     #[arg(long, global = true)]
     busy: bool,
+    /// How to reach the planner: iceoryx2 (this host) or zenoh (any host; feature `zenoh`).
+    #[arg(long, value_enum, default_value_t = Transport::Iceoryx2, global = true)]
+    transport: Transport,
+    /// Zenoh: endpoint of a planner or router to connect to (repeatable).
+    #[arg(long, global = true, default_value = "tcp/127.0.0.1:7447")]
+    connect: Vec<String>,
+    /// Zenoh: endpoint of the map session to connect to (default: each --connect, next port).
+    #[arg(long, global = true)]
+    map_connect: Vec<String>,
+    /// Zenoh: mode of the sessions.
+    #[arg(long, value_enum, default_value_t = ZenohMode::Peer, global = true)]
+    mode: ZenohMode,
+    /// Zenoh: a configuration file (JSON5) for everything else (docs/zenoh.md).
+    #[arg(long, global = true)]
+    zenoh_config: Option<PathBuf>,
+    /// Zenoh: how requests travel: a query on the planners' queryable, or the
+    /// publish-subscribe pair (about half the round trip).
+    #[arg(long, value_enum, default_value_t = RequestPathArg::Query, global = true)]
+    request: RequestPathArg,
     #[command(subcommand)]
     command: Command,
+}
+
+/// How to reach the planner.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+enum Transport {
+    /// Shared memory, this host.
+    Iceoryx2,
+    /// Zenoh (TCP), any host.
+    Zenoh,
+}
+
+/// How Zenoh requests travel.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+enum RequestPathArg {
+    /// A query on `P/@v1/plan`.
+    Query,
+    /// The publish-subscribe pair (`P/@v1/req/<planner>/<client>`, `P/@v1/rep/<client>`).
+    Pair,
+}
+
+/// The Zenoh sessions' mode.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+enum ZenohMode {
+    /// Connect to the endpoints given and the peers learnt of.
+    Peer,
+    /// Connect to one router or peer.
+    Client,
 }
 
 #[derive(Subcommand)]
@@ -109,6 +162,16 @@ struct PlanArgs {
     /// Unknown space of a ROS map: blocked or free.
     #[arg(long, value_enum, default_value_t = Unknown::Blocked)]
     unknown: Unknown,
+    /// Swarm planners' blended objective: desired clearance in cells of the inflated map
+    /// (0: none; the server refuses a negative or non-finite value as InvalidParameters).
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    clearance: f32,
+    /// Blended objective: cost per cell of path per cell of missing clearance.
+    #[arg(long, default_value_t = 4.0, allow_hyphen_values = true)]
+    clearance_weight: f32,
+    /// Blended objective: cost in cells per radian of turning (0: none).
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    turn_weight: f32,
     /// Per-request timeout, milliseconds.
     #[arg(long, default_value_t = 1000)]
     timeout_ms: u64,
@@ -147,9 +210,115 @@ fn endpoint(text: &str, frame: Frame, what: &str) -> anyhow::Result<Endpoint> {
     }
 }
 
+/// Why a plan call gave no path.
+enum PlanFail {
+    /// The service cannot be reached at all: exit status 1 with this message.
+    Unreachable(String),
+    /// A failure of this query: its JSON line (the error's name).
+    Named(&'static str),
+}
+
+/// What the commands need from a transport's client.
+trait PlanService {
+    /// The largest map (cells) the service takes, if known.
+    fn map_limit(&mut self) -> anyhow::Result<Option<u64>>;
+    /// Publishes a map.
+    fn upload_map(&mut self, meta: MapMeta, grid: GridRef<'_>) -> anyhow::Result<()>;
+    /// Waits until the service holds a map version.
+    fn wait_for_map(&mut self, map_id: u32, version: u32, wait: Duration) -> anyhow::Result<()>;
+    /// A version above what the service and this client hold of `map_id`.
+    fn next_version(&mut self, map_id: u32, wait: Duration) -> u32;
+    /// One request: the path and the server's time (µs).
+    fn plan_raw(
+        &mut self,
+        request: &PlanRequest,
+        timeout: Duration,
+    ) -> Result<(PlanOk, f32), PlanFail>;
+    /// The server's time of the last answer, when there was one.
+    fn last_server_time_us(&self) -> Option<f32>;
+}
+
+impl PlanService for PlannerClient {
+    fn map_limit(&mut self) -> anyhow::Result<Option<u64>> {
+        Ok(PlannerClient::map_limit(self)?)
+    }
+
+    fn upload_map(&mut self, meta: MapMeta, grid: GridRef<'_>) -> anyhow::Result<()> {
+        Ok(PlannerClient::upload_map(self, meta, grid)?)
+    }
+
+    fn wait_for_map(&mut self, map_id: u32, version: u32, wait: Duration) -> anyhow::Result<()> {
+        PlannerClient::wait_for_map(self, map_id, version, wait)?;
+        Ok(())
+    }
+
+    fn next_version(&mut self, map_id: u32, wait: Duration) -> u32 {
+        PlannerClient::next_version(self, map_id, wait)
+    }
+
+    fn plan_raw(
+        &mut self,
+        request: &PlanRequest,
+        timeout: Duration,
+    ) -> Result<(PlanOk, f32), PlanFail> {
+        PlannerClient::plan_raw(self, request, timeout).map_err(|e| match e {
+            ClientError::NoServer => PlanFail::Unreachable("no planner server is running".into()),
+            e => PlanFail::Named(e.name()),
+        })
+    }
+
+    fn last_server_time_us(&self) -> Option<f32> {
+        PlannerClient::last_server_time_us(self)
+    }
+}
+
+#[cfg(feature = "zenoh")]
+impl PlanService for crate::zenoh::ZenohClient {
+    fn map_limit(&mut self) -> anyhow::Result<Option<u64>> {
+        Ok(self.limits().map(|l| l.max_cells))
+    }
+
+    fn upload_map(&mut self, meta: MapMeta, grid: GridRef<'_>) -> anyhow::Result<()> {
+        Ok(crate::zenoh::ZenohClient::upload_map(self, meta, grid)?)
+    }
+
+    fn wait_for_map(&mut self, map_id: u32, version: u32, wait: Duration) -> anyhow::Result<()> {
+        crate::zenoh::ZenohClient::wait_for_map(self, map_id, version, wait)?;
+        Ok(())
+    }
+
+    fn next_version(&mut self, map_id: u32, wait: Duration) -> u32 {
+        crate::zenoh::ZenohClient::next_version(self, map_id, wait)
+    }
+
+    fn plan_raw(
+        &mut self,
+        request: &PlanRequest,
+        timeout: Duration,
+    ) -> Result<(PlanOk, f32), PlanFail> {
+        use crate::zenoh::ZenohError;
+        let failed = |e: ZenohError| match e {
+            ZenohError::NoPlanner { .. } | ZenohError::NotConnected { .. } => {
+                PlanFail::Unreachable(e.to_string())
+            }
+            e => PlanFail::Named(e.name()),
+        };
+        let result = self.plan_retrying(request, timeout).map_err(failed)?;
+        let time = result.time_us;
+        match result.outcome {
+            Ok(ok) => Ok((ok, time)),
+            Err(f) => Err(failed(f.into())),
+        }
+    }
+
+    fn last_server_time_us(&self) -> Option<f32> {
+        crate::zenoh::ZenohClient::last_server_time_us(self)
+    }
+}
+
 /// Loads `path` with the shared loader, within the map service's limit; a map over it is
 /// the client's [`MapTooLarge`], named with the file.
-fn load(client: &mut PlannerClient, path: &Path, unknown: Unknown) -> anyhow::Result<LoadedMap> {
+fn load(client: &mut dyn PlanService, path: &Path, unknown: Unknown) -> anyhow::Result<LoadedMap> {
     let limit = client.map_limit()?;
     let options = MapOptions {
         max_cells: limit.map_or(usize::MAX, |c| usize::try_from(c).unwrap_or(usize::MAX)),
@@ -169,14 +338,17 @@ fn load(client: &mut PlannerClient, path: &Path, unknown: Unknown) -> anyhow::Re
     })
 }
 
-/// Publishes `map` as `map_id` (version 1 for this process) and waits until it is served.
+/// Publishes `map` as `map_id` (above the version the service holds) and waits until it is
+/// served.
 fn upload(
-    client: &mut PlannerClient,
+    client: &mut dyn PlanService,
     map: &LoadedMap,
     map_id: u32,
     wait: Duration,
 ) -> anyhow::Result<u32> {
-    let version = 1;
+    // Above what the server holds: a map uploaded earlier under this id (by any process)
+    // must not shadow this one.
+    let version = client.next_version(map_id, wait);
     let cell0 = map.frame.to_world(0.0, 0.0);
     let meta = MapMeta {
         map_id,
@@ -195,6 +367,12 @@ fn upload(
 /// The binary's entry point (also linked into test binaries). Bad input exits with
 /// [`EXIT_BAD_INPUT`] after the client is dropped (its iceoryx2 node removed).
 pub fn main() -> anyhow::Result<()> {
+    #[cfg(feature = "zenoh")]
+    #[allow(unsafe_code)]
+    // SAFETY: called first in the process's `main`, which has started no thread.
+    unsafe {
+        crate::zenoh::config::set_runtime_env_if_unset();
+    }
     env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("warn")).init();
     crate::services::quiet_iceoryx_logs();
     match run(Cli::parse()) {
@@ -207,16 +385,22 @@ pub fn main() -> anyhow::Result<()> {
 }
 
 fn run(cli: Cli) -> anyhow::Result<()> {
-    let config = ClientConfig {
-        names: Names::new(&cli.prefix),
-        wait: if cli.busy {
-            Wait::Busy
-        } else {
-            ClientConfig::default().wait
-        },
-        ..ClientConfig::default()
+    let mut client: Box<dyn PlanService> = match cli.transport {
+        Transport::Iceoryx2 => {
+            let config = ClientConfig {
+                names: Names::new(&cli.prefix),
+                wait: if cli.busy {
+                    Wait::Busy
+                } else {
+                    ClientConfig::default().wait
+                },
+                ..ClientConfig::default()
+            };
+            Box::new(PlannerClient::new(config)?)
+        }
+        Transport::Zenoh => zenoh_client(&cli)?,
     };
-    let mut client = PlannerClient::new(config)?;
+    let client = &mut *client;
     match cli.command {
         Command::Upload {
             map,
@@ -224,16 +408,47 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             unknown,
             wait_ms,
         } => {
-            let loaded = load(&mut client, &map, unknown)?;
-            let version = upload(&mut client, &loaded, map_id, Duration::from_millis(wait_ms))?;
+            let loaded = load(client, &map, unknown)?;
+            let version = upload(client, &loaded, map_id, Duration::from_millis(wait_ms))?;
             eprintln!("map {map_id} version {version} is served");
             Ok(())
         }
-        Command::Plan(args) => plan(&mut client, &args),
+        Command::Plan(args) => plan(client, &args),
     }
 }
 
-fn plan(client: &mut PlannerClient, args: &PlanArgs) -> anyhow::Result<()> {
+#[cfg(not(feature = "zenoh"))]
+fn zenoh_client(_: &Cli) -> anyhow::Result<Box<dyn PlanService>> {
+    anyhow::bail!(
+        "--transport zenoh: this planner-client was built without Zenoh (cargo build -p planner-ipc --features zenoh)"
+    )
+}
+
+#[cfg(feature = "zenoh")]
+fn zenoh_client(cli: &Cli) -> anyhow::Result<Box<dyn PlanService>> {
+    use crate::zenoh::{ClientConfig, Mode, RequestPath, ZenohClient, ZenohOptions};
+    let config = ClientConfig {
+        prefix: cli.prefix.clone(),
+        path: match cli.request {
+            RequestPathArg::Query => RequestPath::Query,
+            RequestPathArg::Pair => RequestPath::Pair,
+        },
+        options: ZenohOptions {
+            mode: match cli.mode {
+                ZenohMode::Peer => Mode::Peer,
+                ZenohMode::Client => Mode::Client,
+            },
+            connect: cli.connect.clone(),
+            map_connect: (!cli.map_connect.is_empty()).then(|| cli.map_connect.clone()),
+            config_file: cli.zenoh_config.clone(),
+            ..ZenohOptions::default()
+        },
+        ..ClientConfig::default()
+    };
+    Ok(Box::new(ZenohClient::open(config)?))
+}
+
+fn plan(client: &mut dyn PlanService, args: &PlanArgs) -> anyhow::Result<()> {
     let loaded = load(client, &args.map, args.unknown)?;
     let frame = loaded.frame;
     if args.frame == Frame::World && !frame.declared {
@@ -291,6 +506,9 @@ fn plan(client: &mut PlannerClient, args: &PlanArgs) -> anyhow::Result<()> {
                     request.seed = args.seed;
                     request.params = PlanParams {
                         radius: radius_cells as f32,
+                        clearance: args.clearance,
+                        clearance_weight: args.clearance_weight,
+                        turn_weight: args.turn_weight,
                         ..PlanParams::default()
                     };
                     let began = Instant::now();
@@ -306,14 +524,21 @@ fn plan(client: &mut PlannerClient, args: &PlanArgs) -> anyhow::Result<()> {
                                 expanded: Some(ok.evaluations),
                                 report: None,
                             };
-                            jsonl::plan_line(&query, Some(cells), Ok(found), time_us as f64, &ctx)
+                            let mut line = jsonl::plan_line(
+                                &query,
+                                Some(cells),
+                                Ok(found),
+                                time_us as f64,
+                                &ctx,
+                            );
+                            // What the client waited, beside the server's `time_us`.
+                            line["round_trip_us"] = round_trip.round().into();
+                            line
                         }
-                        Err(ClientError::NoServer) => {
-                            anyhow::bail!("no planner server is running")
-                        }
-                        Err(e) => {
+                        Err(PlanFail::Unreachable(why)) => anyhow::bail!("{why}"),
+                        Err(PlanFail::Named(name)) => {
                             let error = jsonl::explain(
-                                ErrorLine::named(e.name()),
+                                ErrorLine::named(name),
                                 loaded.grid.view(),
                                 loaded.unknown.as_ref().map(|u| u.view()),
                                 cells,

@@ -3,7 +3,7 @@
 //! same plans and the same digest.
 //!
 //! Plans: the exact any-angle planner, TCLHHO and IGWO (population 30, 500 iterations,
-//! corridor encoding on the any-angle guide, seed [`SEED`]) on seed 000's 40x40 warehouse
+//! corridor encoding on the any-angle guide, seed [`SEED`]) on `Lei2024Warehouse`'s 40x40 warehouse
 //! and on a 64x64 warehouse: the map in a [`Site`], everything a plan needs in one
 //! [`Storage`] (planner-core's `PlanStorage`: the map's mesh, built by [`prepare`], a query's
 //! scratch, the guide, stations, the optimizer and the path), both `static`s on the MCU,
@@ -16,10 +16,10 @@
 //! (`f32::to_bits`), turns, evaluations, iterations, best iteration, the waypoint count and
 //! every waypoint's `x` and `y` bits. Only integers are printed (no float formatting).
 
-use planner_core::dwa::{Dwa, DwaConfig, DwaState, DynamicDisc, Mode, point_clearance};
-use planner_core::geometry::Cell;
+use planner_core::dwa::{Dwa, DwaConfig, DwaState, DynamicDisc, Mode};
+use planner_core::geometry::{Cell, point_clearance};
 use planner_core::grid::{Grid, words_for};
-use planner_core::maps::{MapKind, seed000};
+use planner_core::maps::{MapKind, lei2024_warehouse};
 use planner_core::path::{self, Path};
 use planner_core::planner::{AlgorithmKind, PlanOptions, PlanParams, PlanStorage};
 use planner_core::search::astar::{self, AStarNode, OpenSlot};
@@ -135,7 +135,7 @@ pub enum Planner {
 pub struct Case {
     /// Short name (printed).
     pub name: &'static str,
-    /// Warehouse side length (seed 000 generator).
+    /// Warehouse side length (`maps::lei2024_warehouse`).
     pub side: usize,
     /// The planner.
     pub planner: Planner,
@@ -227,7 +227,7 @@ impl Default for Fnv {
     }
 }
 
-/// Loads the `side x side` seed 000 warehouse into `s` (not timed: the map would come from
+/// Loads the `side x side` warehouse of `Lei2024Warehouse` into `s` (not timed: the map would come from
 /// flash or a radio on a robot).
 ///
 /// Out of line, like [`run_case`] and [`dwa_control_loop`]: the map generator takes about
@@ -235,8 +235,8 @@ impl Default for Fnv {
 /// 8.4 KiB instead of 6.0 KiB).
 #[inline(never)]
 pub fn load(s: &mut Site, side: usize) -> Result<(), PlanError> {
-    let map =
-        seed000::<WORDS>(MapKind::Warehouse, side).map_err(|_| PlanError::CapacityExceeded)?;
+    let map = lei2024_warehouse::<WORDS>(MapKind::Warehouse, side)
+        .map_err(|_| PlanError::CapacityExceeded)?;
     s.grid = Some(map.grid);
     s.start = map.start;
     s.goal = map.goal;
@@ -395,20 +395,20 @@ pub fn dwa_control_loop(s: &Site, nodes: &mut Nodes) -> Option<Outcome> {
     .ok()?;
     // The route: the A* path cut at DWA_ROUTE cells (a point on a clear segment).
     let mut route: Path<DWA_ROUTE_CAP> = Path::new();
-    let mut walked = 0.0f32;
+    let mut travelled = 0.0f32;
     for (i, &p) in nodes.route.iter().enumerate() {
         if i > 0 {
             let prev = nodes.route[i - 1];
             let seg = prev.distance(p);
-            if walked + seg >= DWA_ROUTE {
-                let t = (DWA_ROUTE - walked) / seg;
+            if travelled + seg >= DWA_ROUTE {
+                let t = (DWA_ROUTE - travelled) / seg;
                 let _ = route.push(Point::new(
                     prev.x + t * (p.x - prev.x),
                     prev.y + t * (p.y - prev.y),
                 ));
                 break;
             }
-            walked += seg;
+            travelled += seg;
         }
         let _ = route.push(p);
     }

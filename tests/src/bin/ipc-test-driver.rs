@@ -170,8 +170,8 @@ fn churn(
         };
         let mut request = PlanRequest::new(map, cell(r & 0xffff_ffff), cell(r >> 32), algo);
         request.seed = r;
-        request.params.population = 8.0;
-        request.params.iterations = 10.0;
+        request.params.population = 8;
+        request.params.iterations = 10;
         i += 1;
         let expected = local.handle(&mut scratch, &request, &mut || false).outcome;
         let got = client.plan(&request, Duration::from_millis(400));

@@ -10,6 +10,26 @@ use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
+/// The keys of a `planner-client plan` line, in order.
+pub const PLAN_LINE_KEYS: [&str; 10] = [
+    "start",
+    "goal",
+    "path",
+    "length",
+    "time_us",
+    "turns",
+    "expanded",
+    "algo",
+    "seed",
+    "round_trip_us",
+];
+
+/// The keys of a JSON line (an object), in order.
+pub fn line_keys(line: &serde_json::Value) -> Vec<&str> {
+    line.as_object()
+        .map_or_else(Vec::new, |o| o.keys().map(String::as_str).collect())
+}
+
 /// A unique service prefix for one test (process id + test name).
 pub fn prefix(test: &str) -> String {
     format!("it-{}-{test}", std::process::id())
@@ -160,4 +180,66 @@ pub fn client(prefix: &str) -> PlannerClient {
         ..ClientConfig::default()
     })
     .unwrap()
+}
+
+/// Zenoh: a port of 127.0.0.1 free now whose next port (the map session's) is free too.
+pub fn zport() -> u16 {
+    planner_ipc::zenoh::config::free_port_pair().unwrap()
+}
+
+/// Zenoh: the TCP endpoint of a port of 127.0.0.1.
+pub fn zendpoint(port: u16) -> String {
+    format!("tcp/127.0.0.1:{port}")
+}
+
+/// Starts `ipc-test-server --transport zenoh` with more options and waits until it is
+/// ready (a planner, or a router with `--route-only`).
+pub fn start_zenoh_server(prefix: &str, extra: &[&str]) -> Proc {
+    let mut args = vec!["--transport", "zenoh"];
+    args.extend_from_slice(extra);
+    start_server(prefix, &args)
+}
+
+/// A Zenoh client in this process (requests as queries).
+pub fn zclient(
+    prefix: &str,
+    mode: planner_ipc::zenoh::Mode,
+    connect: &[String],
+) -> planner_ipc::zenoh::ZenohClient {
+    zclient_on(
+        prefix,
+        mode,
+        connect,
+        planner_ipc::zenoh::RequestPath::Query,
+    )
+}
+
+/// A Zenoh client in this process, requests travelling by `path`.
+pub fn zclient_on(
+    prefix: &str,
+    mode: planner_ipc::zenoh::Mode,
+    connect: &[String],
+    path: planner_ipc::zenoh::RequestPath,
+) -> planner_ipc::zenoh::ZenohClient {
+    use planner_ipc::zenoh::{ClientConfig, ZenohClient, ZenohOptions};
+    ZenohClient::open(ClientConfig {
+        prefix: prefix.to_string(),
+        path,
+        options: ZenohOptions {
+            mode,
+            connect: connect.to_vec(),
+            ..ZenohOptions::default()
+        },
+        ..ClientConfig::default()
+    })
+    .unwrap()
+}
+
+/// Waits until a Zenoh client sees a planner (at most 20 s).
+pub fn wait_for_planner(client: &mut planner_ipc::zenoh::ZenohClient) {
+    let began = Instant::now();
+    while let Err(e) = client.check_planners() {
+        assert!(began.elapsed() < Duration::from_secs(20), "no planner: {e}");
+        std::thread::sleep(Duration::from_millis(20));
+    }
 }

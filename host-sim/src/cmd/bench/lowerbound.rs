@@ -11,11 +11,11 @@
 
 use super::movingai::{ScenRow, WAREHOUSES, read_scen};
 use super::{fmt, mean_std, print_table, progress, write_csv, write_json};
-use crate::mapsrc::{MapOptions, load_map};
 use anyhow::Context;
 use planner_core::path::{Path, PathView};
 use planner_core::search::visibility::VisibilityGraph;
 use planner_core::search::{SearchNode, theta};
+use planner_mapfile::{MapOptions, load_map};
 use serde::Serialize;
 use std::path::PathBuf;
 use std::time::Instant;

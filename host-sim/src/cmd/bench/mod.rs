@@ -7,9 +7,11 @@ pub mod movingai;
 pub mod paper;
 #[cfg(feature = "polyanya")]
 mod polyanya;
+pub mod safety;
 pub mod scale;
 pub mod speed;
 
+pub use host_sim::stats::mean_std;
 use indicatif::{ProgressBar, ProgressStyle};
 use serde::Serialize;
 use std::path::Path;
@@ -23,7 +25,7 @@ pub struct BenchArgs {
 
 #[derive(clap::Subcommand, Debug)]
 enum Which {
-    /// Seed 000's tables 2 and 3 and seed 003's table 3.
+    /// Lei2024Warehouse's tables 2 and 3 and Liu2020Igwo's table 3.
     Paper(paper::PaperArgs),
     /// Validity, length and time on Moving AI warehouse scenarios.
     Movingai(movingai::MovingaiArgs),
@@ -35,6 +37,9 @@ enum Which {
     /// Generated warehouses from 256 to 4096 cells a side: time per query against A*, length
     /// against the exact any-angle path, peak memory, and a log-log plot.
     Scale(scale::ScaleArgs),
+    /// Margins and turns: the exact planners against TCLHHO and IGWO with the blended
+    /// objective, on the Moving AI and generated warehouses.
+    Safety(safety::SafetyArgs),
 }
 
 /// Runs `host-sim bench`.
@@ -45,18 +50,8 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         Which::Speed(a) => speed::run(a),
         Which::Lowerbound(a) => lowerbound::run(a),
         Which::Scale(a) => scale::run(a),
+        Which::Safety(a) => safety::run(a),
     }
-}
-
-/// Mean and population standard deviation (`NaN` for an empty slice).
-pub fn mean_std(values: &[f64]) -> (f64, f64) {
-    if values.is_empty() {
-        return (f64::NAN, f64::NAN);
-    }
-    let n = values.len() as f64;
-    let mean = values.iter().sum::<f64>() / n;
-    let var = values.iter().map(|v| (v - mean) * (v - mean)).sum::<f64>() / n;
-    (mean, var.sqrt())
 }
 
 /// A progress bar on standard error (hidden when it is not a terminal).

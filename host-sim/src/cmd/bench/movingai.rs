@@ -6,14 +6,14 @@
 //! ([`crate::validate`]); a planner error on these (all reachable) rows counts as invalid.
 
 use super::{fmt, mean_std, print_table, progress, write_csv, write_json};
-use crate::mapsrc::{MapOptions, load_map};
 use anyhow::Context;
 use planner_core::geometry::Cell;
 use planner_core::optim::any::AlgorithmKind;
 use planner_core::path::{Path, PathView};
 use planner_core::planner::aco::AcoParams;
-use planner_core::planner::owned::HostPlanner;
-use planner_core::planner::{PlanParams, PlannerKind};
+use planner_core::planner::owned::{HostPlanner, PlanChoice};
+use planner_core::planner::{PlanOptions, PlanParams, PlannerKind};
+use planner_mapfile::{MapOptions, load_map};
 use serde::Serialize;
 use std::path::PathBuf;
 use std::time::Instant;
@@ -172,14 +172,15 @@ pub fn run(args: &MovingaiArgs) -> anyhow::Result<()> {
                 let began = Instant::now();
                 let result = planner.plan(
                     grid.view(),
-                    kind,
                     row.start,
                     row.goal,
-                    &params,
-                    &AcoParams::default(),
+                    &PlanChoice {
+                        kind,
+                        params,
+                        aco: AcoParams::default(),
+                    },
                     view,
-                    &mut [],
-                    &mut || false,
+                    PlanOptions::default(),
                 );
                 times.push(began.elapsed().as_secs_f64() * 1e3);
                 bar.inc(1);

@@ -1,24 +1,27 @@
-//! `host-sim bench paper`: seed 000's tables 2 (sparse maps) and 3 (warehouse maps) and seed
-//! 003's table 3 (20 x 20 lab), on the project's seed-style maps (the papers print theirs only
-//! as figures, so compare shapes, not digits).
+//! `host-sim bench paper`: `Lei2024Warehouse`'s tables 2 (sparse maps) and 3 (warehouse maps)
+//! and `Liu2020Igwo`'s table 3 (20 x 20 lab), on the project's versions of the papers' maps
+//! (`planner_core::maps`; the papers print theirs only as figures, so compare shapes, not
+//! digits). Table ids keep the seed numbers of the table atop `docs/references.md`, as results
+//! files and scripts match them: `seed000-table2` and `seed000-table3` are `Lei2024Warehouse`'s,
+//! `seed003-table3` is `Liu2020Igwo`'s.
 //!
-//! Seed 000: TCLHHO, HHO, TGWO, GWO with the column encoding (the paper's own, no pruning)
-//! and the ant colony, population 30, 500 iterations, `--runs` runs each; metrics `L_mean`,
-//! `P_mean`, `S` (std of `L`), `T_mean`, `I_mean` over the runs that found a valid path, and
-//! the success rate (a run whose best is infeasible is the paper's "—"). Seed 003: IGWO, GWO,
-//! PSO, GA with the 8-connected walk encoding.
+//! `Lei2024Warehouse`: TCLHHO, HHO, TGWO, GWO with the column encoding (the paper's own, no
+//! pruning) and the ant colony, population 30, 500 iterations, `--runs` runs each; metrics
+//! `L_mean`, `P_mean`, `S` (std of `L`), `T_mean`, `I_mean` over the runs that found a valid
+//! path, and the success rate (a run whose best is infeasible is the paper's "—").
+//! `Liu2020Igwo`: IGWO, GWO, PSO, GA with the 8-connected walk encoding.
 
 use super::{fmt, mean_std, print_table, progress, write_csv, write_json};
 use anyhow::Context;
 use planner_core::encoding::walk::CornerRule;
 use planner_core::geometry::Cell;
 use planner_core::grid::{GridBuf, words_for};
-use planner_core::maps::{MapKind, SeedMap, lab_20x20, seed000};
+use planner_core::maps::{MapKind, PaperMap, lab_20x20, lei2024_warehouse};
 use planner_core::optim::any::AlgorithmKind;
 use planner_core::path::{Path, PathView};
 use planner_core::planner::aco::AcoParams;
-use planner_core::planner::owned::HostPlanner;
-use planner_core::planner::{EncodingKind, PlanParams, PlannerKind};
+use planner_core::planner::owned::{HostPlanner, PlanChoice};
+use planner_core::planner::{EncodingKind, PlanOptions, PlanParams, PlannerKind};
 use serde::Serialize;
 use std::path::PathBuf;
 use std::time::Instant;
@@ -35,7 +38,7 @@ pub struct PaperArgs {
     /// Seed of the first run; run `k` uses `seed + k`.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
-    /// Seed 003 with its literal corner rule (a diagonal is forbidden only when both side
+    /// Liu2020Igwo with its literal corner rule (a diagonal is forbidden only when both side
     /// cells are blocked) instead of SPEC's.
     #[arg(long)]
     pub loose_corners: bool,
@@ -47,7 +50,8 @@ pub struct PaperArgs {
 /// One run.
 #[derive(Serialize, Clone)]
 pub struct Run {
-    /// Table (`seed000-table2`, ...).
+    /// Table id: `seed000-table2`, `seed000-table3` (`Lei2024Warehouse`) or `seed003-table3`
+    /// (`Liu2020Igwo`).
     pub table: String,
     /// Map name.
     pub map: String,
@@ -98,7 +102,7 @@ pub struct Row {
     pub success_rate: f64,
 }
 
-fn to_host<const W: usize>(m: &SeedMap<W>) -> GridBuf {
+fn to_host<const W: usize>(m: &PaperMap<W>) -> GridBuf {
     GridBuf::from_view(m.grid.view())
 }
 
@@ -111,15 +115,15 @@ struct Case {
 }
 
 fn cases() -> anyhow::Result<(Vec<Case>, Case)> {
-    let mut seed000_cases = Vec::new();
+    let mut warehouse_cases = Vec::new();
     for (table, kind) in [
         ("seed000-table2", MapKind::Sparse),
         ("seed000-table3", MapKind::Warehouse),
     ] {
         for size in [10, 30, 40] {
-            let m = seed000::<{ words_for(40, 40) }>(kind, size)
+            let m = lei2024_warehouse::<{ words_for(40, 40) }>(kind, size)
                 .map_err(|e| anyhow::anyhow!("{e:?}"))?;
-            seed000_cases.push(Case {
+            warehouse_cases.push(Case {
                 table,
                 name: format!("{}-{size}x{size}", kind.name()),
                 grid: to_host(&m),
@@ -136,14 +140,14 @@ fn cases() -> anyhow::Result<(Vec<Case>, Case)> {
         start: lab.start,
         goal: lab.goal,
     };
-    Ok((seed000_cases, lab_case))
+    Ok((warehouse_cases, lab_case))
 }
 
 /// Runs `host-sim bench paper`.
 pub fn run(args: &PaperArgs) -> anyhow::Result<()> {
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("cannot create {}", args.out.display()))?;
-    let (seed000_cases, lab) = cases()?;
+    let (warehouse_cases, lab) = cases()?;
     let hho_family = [
         PlannerKind::Swarm(AlgorithmKind::Tclhho),
         PlannerKind::Swarm(AlgorithmKind::Hho),
@@ -158,10 +162,10 @@ pub fn run(args: &PaperArgs) -> anyhow::Result<()> {
         PlannerKind::Swarm(AlgorithmKind::Ga),
     ];
     let total =
-        (seed000_cases.len() * hho_family.len() + gwo_family.len()) as u64 * args.runs as u64;
+        (warehouse_cases.len() * hho_family.len() + gwo_family.len()) as u64 * args.runs as u64;
     let bar = progress(total, "paper tables");
     let mut runs = Vec::new();
-    for case in &seed000_cases {
+    for case in &warehouse_cases {
         for kind in hho_family {
             let params = PlanParams {
                 encoding: EncodingKind::Column,
@@ -218,15 +222,15 @@ pub fn run(args: &PaperArgs) -> anyhow::Result<()> {
     for (table, title) in [
         (
             "seed000-table2",
-            "Seed 000 table 2: sparse maps, column encoding (30 runs)",
+            "Lei2024Warehouse table 2: sparse maps, column encoding (30 runs)",
         ),
         (
             "seed000-table3",
-            "Seed 000 table 3: warehouse maps, column encoding",
+            "Lei2024Warehouse table 3: warehouse maps, column encoding",
         ),
         (
             "seed003-table3",
-            "Seed 003 table 3: 20x20 lab, 8-connected walk",
+            "Liu2020Igwo table 3: 20x20 lab, 8-connected walk",
         ),
     ] {
         let cells: Vec<Vec<String>> = rows
@@ -259,7 +263,7 @@ pub fn run(args: &PaperArgs) -> anyhow::Result<()> {
         &args.out.join("paper.json"),
         &serde_json::json!({ "rows": rows, "runs": runs }),
     )?;
-    for case in seed000_cases.iter().chain(std::iter::once(&lab)) {
+    for case in warehouse_cases.iter().chain(std::iter::once(&lab)) {
         let mut text = String::new();
         case.grid.write_movingai(&mut text)?;
         std::fs::write(args.out.join(format!("{}.map", case.name)), text)?;
@@ -366,14 +370,14 @@ fn run_case(
         let began = Instant::now();
         let result = planner.plan(
             case.grid.view(),
-            kind,
             case.start,
             case.goal,
-            &params,
-            &aco,
+            &PlanChoice { kind, params, aco },
             view,
-            &mut history,
-            &mut || false,
+            PlanOptions {
+                history: &mut history,
+                interrupt: None,
+            },
         );
         let time_s = began.elapsed().as_secs_f64();
         let report = result.as_ref().ok().and_then(|o| o.report);

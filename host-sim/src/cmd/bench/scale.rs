@@ -10,18 +10,18 @@
 //! cells at random (one per 48 `u x u` squares of the map).
 
 use super::{fmt, print_table, write_csv, write_json};
-use crate::mapsrc::MapOptions;
-use crate::mapsrc::warehouse::{WarehouseParams, generate};
 use crate::render::{Points, Style, loglog_plot};
+use crate::warehouse_gen::{WarehouseParams, generate};
 use anyhow::{Context, bail};
 use host_sim::heap;
 use planner_core::geometry::Cell;
 use planner_core::grid::GridBuf;
 use planner_core::path::{self, Path};
 use planner_core::planner::aco::AcoParams;
-use planner_core::planner::owned::HostPlanner;
-use planner_core::planner::{PlanParams, PlannerKind};
+use planner_core::planner::owned::{HostPlanner, PlanChoice};
+use planner_core::planner::{PlanOptions, PlanParams, PlannerKind};
 use planner_core::search::connectivity;
+use planner_mapfile::MapOptions;
 use rand_core::{Rng, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
 use serde::Serialize;
@@ -110,11 +110,11 @@ pub struct Record {
 }
 
 /// A generated map and its queries.
-struct Case {
-    name: String,
-    grid: GridBuf,
+pub(super) struct Case {
+    pub(super) name: String,
+    pub(super) grid: GridBuf,
     clutter: bool,
-    queries: Vec<(Cell, Cell)>,
+    pub(super) queries: Vec<(Cell, Cell)>,
 }
 
 /// Runs `host-sim bench scale`.
@@ -169,7 +169,13 @@ fn parse_size(text: &str) -> anyhow::Result<(usize, usize)> {
 }
 
 /// The scaled layout, its clutter and its queries.
-fn make_case(w: usize, h: usize, clutter: bool, queries: usize, seed: u64) -> anyhow::Result<Case> {
+pub(super) fn make_case(
+    w: usize,
+    h: usize,
+    clutter: bool,
+    queries: usize,
+    seed: u64,
+) -> anyhow::Result<Case> {
     let u = (w.max(h) / 256).max(1);
     let params = WarehouseParams {
         width: w,
@@ -357,14 +363,15 @@ fn run_host(case: &Case, kind: PlannerKind, args: &ScaleArgs) -> anyhow::Result<
         let began = Instant::now();
         let result = planner.plan(
             grid,
-            kind,
             s,
             g,
-            &params,
-            &AcoParams::default(),
+            &PlanChoice {
+                kind,
+                params,
+                aco: AcoParams::default(),
+            },
             &mut *out,
-            &mut [],
-            &mut || false,
+            PlanOptions::default(),
         );
         let ms = began.elapsed().as_secs_f64() * 1e3;
         if let Err(e) = &result {

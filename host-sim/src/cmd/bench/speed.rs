@@ -9,16 +9,16 @@
 //! the ratio to A* can fall at these settings.
 
 use super::{fmt, mean_std, print_table, write_json};
-use crate::mapsrc::{MapOptions, load_map};
 use anyhow::Context;
 use planner_core::grid::{GridBuf, words_for};
-use planner_core::maps::{MapKind, seed000};
+use planner_core::maps::{MapKind, lei2024_warehouse};
 use planner_core::optim::any::{AlgorithmKind, AnyOptimizer};
 use planner_core::optim::{Bounds, Optimizer, Settings, Stop};
 use planner_core::path::{Path, PathView};
 use planner_core::planner::aco::AcoParams;
-use planner_core::planner::owned::HostPlanner;
-use planner_core::planner::{EncodingKind, PlanParams, PlannerKind};
+use planner_core::planner::owned::{HostPlanner, PlanChoice};
+use planner_core::planner::{EncodingKind, PlanOptions, PlanParams, PlannerKind};
+use planner_mapfile::{MapOptions, load_map};
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -57,13 +57,13 @@ pub struct SpeedArgs {
 pub fn run(args: &SpeedArgs) -> anyhow::Result<()> {
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("cannot create {}", args.out.display()))?;
-    let seed_map = seed000::<{ words_for(40, 40) }>(MapKind::Warehouse, 40)
+    let paper_map = lei2024_warehouse::<{ words_for(40, 40) }>(MapKind::Warehouse, 40)
         .map_err(|e| anyhow::anyhow!("{e:?}"))?;
-    let seed_grid = GridBuf::from_view(seed_map.grid.view());
-    let seed_rows = vec![
+    let paper_grid = GridBuf::from_view(paper_map.grid.view());
+    let paper_rows = vec![
         ScenRow {
-            start: seed_map.start,
-            goal: seed_map.goal,
+            start: paper_map.start,
+            goal: paper_map.goal,
             optimal: f64::NAN
         };
         args.repeats
@@ -86,17 +86,19 @@ pub fn run(args: &SpeedArgs) -> anyhow::Result<()> {
 
     let mut table = Vec::new();
     let mut records = Vec::new();
+    // "seed000": `Lei2024Warehouse` (docs/references.md); the label stays as earlier results
+    // files (`"map"`) have it.
     let cases: [(&str, &GridBuf, &[ScenRow], EncodingKind); 3] = [
         (
             "seed000 warehouse 40x40",
-            &seed_grid,
-            &seed_rows,
+            &paper_grid,
+            &paper_rows,
             EncodingKind::Corridor,
         ),
         (
             "seed000 warehouse 40x40",
-            &seed_grid,
-            &seed_rows,
+            &paper_grid,
+            &paper_rows,
             EncodingKind::Column,
         ),
         (
@@ -120,14 +122,15 @@ pub fn run(args: &SpeedArgs) -> anyhow::Result<()> {
             if let Some(r) = rows.first() {
                 let _ = planner.plan(
                     grid.view(),
-                    kind,
                     r.start,
                     r.goal,
-                    params,
-                    &AcoParams::default(),
+                    &PlanChoice {
+                        kind,
+                        params: *params,
+                        aco: AcoParams::default(),
+                    },
                     out,
-                    &mut [],
-                    &mut || false,
+                    PlanOptions::default(),
                 );
             }
             for (k, r) in rows.iter().enumerate() {
@@ -138,14 +141,15 @@ pub fn run(args: &SpeedArgs) -> anyhow::Result<()> {
                 let began = Instant::now();
                 let res = planner.plan(
                     grid.view(),
-                    kind,
                     r.start,
                     r.goal,
-                    &params,
-                    &AcoParams::default(),
+                    &PlanChoice {
+                        kind,
+                        params,
+                        aco: AcoParams::default(),
+                    },
                     out,
-                    &mut [],
-                    &mut || false,
+                    PlanOptions::default(),
                 );
                 t.push(began.elapsed().as_secs_f64());
                 l.push(res.as_ref().map_or(f64::NAN, |o| o.length as f64));

@@ -81,6 +81,7 @@ pub struct Scratch<'a> {
 
 /// What [`plan`] reports besides the path.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct AnyAngleStats {
     /// Length of the returned path (cells).

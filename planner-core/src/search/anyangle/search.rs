@@ -383,7 +383,7 @@ impl<'q, 'm> Search<'q, 'm> {
                     Slope::new(pl - self.start.0, t),
                     Slope::new(pr - self.start.0, t),
                 );
-                self.push_cone(START, 0.0, self.start, q, start_rect, lo, hi)?;
+                self.push_cone(START, 0.0, self.start, (q, start_rect), lo, hi)?;
             }
         }
         while let Some(node) = self.heap.pop() {
@@ -452,14 +452,14 @@ impl<'q, 'm> Search<'q, 'm> {
         Ok(())
     }
 
-    #[allow(clippy::too_many_arguments)]
+    /// Pushes the cone `[lo, hi]` of root `root` (at `r`, reached at cost `g`) into
+    /// rectangle `rect`, entered from rectangle `from`.
     fn push_cone(
         &mut self,
         root: u32,
         g: f32,
         r: P2,
-        rect: u32,
-        from: u32,
+        (rect, from): (u32, u32),
         lo: Slope,
         hi: Slope,
     ) -> Result<(), PlanError> {
@@ -550,7 +550,7 @@ impl<'q, 'm> Search<'q, 'm> {
             let lo = n.lo.max(Slope::new(pl - r.0, tf));
             let hi = n.hi.min(Slope::new(pr - r.0, tf));
             if lo.le(hi) {
-                self.push_cone(n.root, n.g, r, q, n.rect, lo, hi)?;
+                self.push_cone(n.root, n.g, r, (q, n.rect), lo, hi)?;
             }
         }
         let goal_slope = (n.rect == self.goal_rect)
@@ -609,7 +609,7 @@ impl<'q, 'm> Search<'q, 'm> {
                     (Slope::new(pl - ax, t).max(edge), Slope::new(pr - ax, t))
                 };
                 if lo.le(hi) {
-                    self.push_cone(key, ga, a, q, n.rect, lo, hi)?;
+                    self.push_cone(key, ga, a, (q, n.rect), lo, hi)?;
                 }
             }
             if let Some(s) = goal_slope {
@@ -677,7 +677,7 @@ impl<'q, 'm> Search<'q, 'm> {
         for q in neighbours(&mesh, n.rect, up) {
             let (pl, pr) = portal(&t, &mesh.rect(q));
             let (lo, hi) = (Slope::new(pl - nx, height), Slope::new(pr - nx, height));
-            self.push_cone(key, gm, m, q, n.rect, lo, hi)?;
+            self.push_cone(key, gm, m, (q, n.rect), lo, hi)?;
         }
         if n.rect == self.goal_rect {
             self.push_goal(key, gm + dist(m, self.goal))?;

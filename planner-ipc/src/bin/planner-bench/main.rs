@@ -23,6 +23,10 @@
 //!
 //! `planner-bench raw [N]` prints the floors under the plan round trip (see [`raw_floor`]).
 //!
+//! `planner-bench zenoh ...` (feature `zenoh`): the planner over Zenoh against a plain TCP +
+//! postcard baseline, a 4096 x 4096 map to 8 subscribers, 32 client processes x 1,000 plans
+//! (see the `zenoh` module).
+//!
 //! Socket framing: a little-endian `u32` length, then the postcard bytes of a
 //! [`UdsRequest`] or [`UdsResponse`]. Busy mode spins on non-blocking sockets; blocking
 //! mode blocks in `read`.
@@ -37,8 +41,8 @@ use planner_ipc::engine::{Engine, Scratch};
 use planner_ipc::services::Names;
 use planner_ipc::wire::{
     Algorithm, DEFAULT_MAX_CELLS, LAYOUT_ROWS_AND_COLUMNS, MapHeader, MapMeta, MapMsg, PlanRequest,
-    PlanResponseHeader, PlanResult, RequestKind, Waypoint, first_disagreement, frame_grid,
-    frame_header, grid_from_bits, write_grid,
+    PlanResponseHeader, PlanResult, Waypoint, first_disagreement, frame_grid, frame_header,
+    grid_from_bits, write_grid,
 };
 use serde::{Deserialize, Serialize};
 use std::io::{ErrorKind, Read, Write};
@@ -93,7 +97,16 @@ enum UdsResponse {
     Plan(PlanResult),
 }
 
+#[cfg(feature = "zenoh")]
+mod zbench;
+
 fn main() -> anyhow::Result<()> {
+    #[cfg(feature = "zenoh")]
+    #[allow(unsafe_code)]
+    // SAFETY: first thing in `main`: no other thread runs yet.
+    unsafe {
+        planner_ipc::zenoh::config::set_runtime_env_if_unset();
+    }
     env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("warn")).init();
     planner_ipc::services::quiet_iceoryx_logs();
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -107,6 +120,15 @@ fn main() -> anyhow::Result<()> {
     }
     if args.first().map(String::as_str) == Some("raw") {
         return raw_floor(args.get(1).map_or(Ok(20_000), |v| v.parse())?);
+    }
+    if args.first().is_some_and(|a| a.starts_with("zenoh")) {
+        #[cfg(feature = "zenoh")]
+        return zbench::main(&args);
+        #[cfg(not(feature = "zenoh"))]
+        anyhow::bail!(
+            "{}: this planner-bench was built without Zenoh (cargo build --release -p planner-ipc --features zenoh --bins)",
+            args[0]
+        );
     }
     let value = |name: &str| -> anyhow::Result<Option<&String>> {
         match args.iter().position(|a| a == name) {
@@ -260,6 +282,20 @@ fn run_case(case: &mut Case, busy: bool) -> anyhow::Result<()> {
             &mut ipc.net,
             &mut uds.net,
         );
+        row(
+            name,
+            mode,
+            "  answer read in place",
+            &mut ipc.rt_in_place,
+            &mut uds.rt,
+        );
+        row(
+            name,
+            mode,
+            "    of which transport",
+            &mut ipc.net_in_place,
+            &mut uds.net,
+        );
     }
     if case.updates > 0 {
         for (how, update) in &mut ipc.updates {
@@ -298,10 +334,13 @@ struct Samples {
     update: Updates,
 }
 
-/// The iceoryx2 side: the map updates three ways.
+/// The iceoryx2 side: plans with the answer copied out and read in place, the map updates
+/// three ways.
 struct IpcSamples {
     rt: Vec<f64>,
     net: Vec<f64>,
+    rt_in_place: Vec<f64>,
+    net_in_place: Vec<f64>,
     updates: Vec<(&'static str, Updates)>,
 }
 
@@ -420,7 +459,7 @@ fn ipc_phase(case: &mut Case, busy: bool, warmup: usize) -> anyhow::Result<IpcSa
         notify_server: !busy,
         ..ClientConfig::default()
     })?;
-    frame.header.version = 1;
+    frame.header.map_version = 1;
     client.publish_map(&frame.header, &frame.words)?;
     client.wait_for_map(1, 1, Duration::from_secs(10))?;
     let request = case.request;
@@ -431,17 +470,32 @@ fn ipc_phase(case: &mut Case, busy: bool, warmup: usize) -> anyhow::Result<IpcSa
     } else {
         warmup + iterations
     };
+    let (mut rt_in_place, mut net_in_place) = (Vec::new(), Vec::new());
     for i in 0..rounds {
         let began = Instant::now();
-        let (_, server_us) = client.plan_raw(&request, Duration::from_secs(5))?;
+        // Every other answer read where it arrived (each waypoint read once, none copied).
+        let in_place = i % 2 == 1;
+        let server_us = if in_place {
+            let (sum, server_us) =
+                client.plan_in_place(&request, Duration::from_secs(5), |view| {
+                    view.waypoints().iter().map(|p| p.x + p.y).sum::<f32>()
+                })?;
+            std::hint::black_box(sum);
+            server_us
+        } else {
+            client.plan_raw(&request, Duration::from_secs(5))?.1
+        };
         let t = began.elapsed().as_secs_f64() * 1e6;
         if i >= warmup {
+            let (rt, net) = if in_place {
+                (&mut rt_in_place, &mut net_in_place)
+            } else {
+                (&mut rt, &mut net)
+            };
             rt.push(t);
             net.push(t - server_us as f64);
         }
     }
-    let mut status = PlanRequest::new((1, 0), [0, 0], [0, 0], Algorithm::AStar);
-    status.kind = RequestKind::MapStatus as u8;
     let mut updates: Vec<(&'static str, Updates)> = ["copy", "in place", "upload_map"]
         .into_iter()
         .map(|how| (how, Updates::default()))
@@ -457,7 +511,7 @@ fn ipc_phase(case: &mut Case, busy: bool, warmup: usize) -> anyhow::Result<IpcSa
             let (publish, began) = match *how {
                 // Ready words (both layouts) copied into the loan: loan + copy + send.
                 "copy" => {
-                    frame.header.version = version;
+                    frame.header.map_version = version;
                     let (sent, t) = timed(|| client.publish_map(&frame.header, &frame.words));
                     sent?;
                     (t, Instant::now() - Duration::from_secs_f64(t / 1e6))
@@ -483,15 +537,20 @@ fn ipc_phase(case: &mut Case, busy: bool, warmup: usize) -> anyhow::Result<IpcSa
                     (t, Instant::now() - Duration::from_secs_f64(t / 1e6))
                 }
             };
-            status.map_version = version;
-            let stored = client.plan(&status, Duration::from_secs(5))?;
+            let stored = client.map_status(1, version, Duration::from_secs(5))?;
             let t = began.elapsed().as_secs_f64() * 1e6;
             samples.publish.push(publish);
             samples.full.push(t);
-            samples.net.push(t - stored.length as f64);
+            samples.net.push(t - stored.decode_us as f64);
         }
     }
-    Ok(IpcSamples { rt, net, updates })
+    Ok(IpcSamples {
+        rt,
+        net,
+        rt_in_place,
+        net_in_place,
+        updates,
+    })
 }
 
 fn uds_phase(case: &mut Case, busy: bool, warmup: usize) -> anyhow::Result<Samples> {
@@ -512,7 +571,7 @@ fn uds_phase(case: &mut Case, busy: bool, warmup: usize) -> anyhow::Result<Sampl
     let mut stream = connect(&sock)?;
     stream.set_nonblocking(busy)?;
     let mut buf = vec![0u8; UDS_BUFFER];
-    frame.header.version = 1;
+    frame.header.map_version = 1;
     uds_call(
         &mut stream,
         &UdsRequestRef::Map(MapMsgRef::new(frame)),
@@ -541,7 +600,7 @@ fn uds_phase(case: &mut Case, busy: bool, warmup: usize) -> anyhow::Result<Sampl
     }
     let mut update = Updates::default();
     for version in 2..updates as u32 + 2 {
-        frame.header.version = version;
+        frame.header.map_version = version;
         let began = Instant::now();
         // The socket has to carry bytes: encoding the frame is part of publishing it.
         uds_send(
@@ -576,8 +635,8 @@ fn connect(path: &Path) -> anyhow::Result<UnixStream> {
     }
 }
 
-fn uds_call(
-    stream: &mut UnixStream,
+fn uds_call<S: Read + Write>(
+    stream: &mut S,
     request: &UdsRequestRef<'_>,
     buf: &mut [u8],
 ) -> anyhow::Result<UdsResponse> {
@@ -585,8 +644,8 @@ fn uds_call(
     uds_recv(stream, buf)
 }
 
-fn uds_send<T: Serialize>(
-    stream: &mut UnixStream,
+fn uds_send<T: Serialize, S: Write>(
+    stream: &mut S,
     value: &T,
     buf: &mut [u8],
 ) -> anyhow::Result<()> {
@@ -596,8 +655,8 @@ fn uds_send<T: Serialize>(
     write_all_spin(stream, &buf[..4 + n])
 }
 
-fn uds_recv<T: for<'de> Deserialize<'de>>(
-    stream: &mut UnixStream,
+fn uds_recv<T: for<'de> Deserialize<'de>, S: Read>(
+    stream: &mut S,
     buf: &mut [u8],
 ) -> anyhow::Result<T> {
     let mut head = [0u8; 4];
@@ -609,7 +668,7 @@ fn uds_recv<T: for<'de> Deserialize<'de>>(
 }
 
 /// `read_exact` that also works on a non-blocking socket (spinning on `WouldBlock`).
-fn read_exact_spin(stream: &mut UnixStream, mut out: &mut [u8]) -> anyhow::Result<()> {
+fn read_exact_spin<S: Read>(stream: &mut S, mut out: &mut [u8]) -> anyhow::Result<()> {
     while !out.is_empty() {
         match stream.read(out) {
             Ok(0) => anyhow::bail!("socket closed"),
@@ -622,7 +681,7 @@ fn read_exact_spin(stream: &mut UnixStream, mut out: &mut [u8]) -> anyhow::Resul
     Ok(())
 }
 
-fn write_all_spin(stream: &mut UnixStream, mut data: &[u8]) -> anyhow::Result<()> {
+fn write_all_spin<S: Write>(stream: &mut S, mut data: &[u8]) -> anyhow::Result<()> {
     while !data.is_empty() {
         match stream.write(data) {
             Ok(n) => data = &data[n..],
@@ -923,11 +982,52 @@ fn atomic_ping(iterations: usize) -> Vec<f64> {
     rt
 }
 
+/// Like [`atomic_ping`], the echo thread also writing `words` 32-bit words into a buffer the
+/// pinging thread then reads: what moving an answer of that size between two cores costs
+/// with no transport at all (its cache lines are written on one core, read on the other).
+fn handover_ping(iterations: usize, words: usize) -> Vec<f64> {
+    use std::sync::Arc;
+    use std::sync::atomic::{AtomicU32, AtomicU64, Ordering};
+    let ball = Arc::new(AtomicU64::new(0));
+    let buffer: Arc<Vec<AtomicU32>> = Arc::new((0..words).map(|_| AtomicU32::new(0)).collect());
+    let (other, written) = (ball.clone(), buffer.clone());
+    let rounds = (iterations + iterations / 10) as u64;
+    let echo = std::thread::spawn(move || {
+        for i in 0..rounds {
+            while other.load(Ordering::Acquire) != 2 * i + 1 {
+                std::hint::spin_loop();
+            }
+            for (k, w) in written.iter().enumerate() {
+                w.store(i as u32 ^ k as u32, Ordering::Relaxed);
+            }
+            other.store(2 * i + 2, Ordering::Release);
+        }
+    });
+    let mut rt = Vec::new();
+    for i in 0..rounds {
+        let began = Instant::now();
+        ball.store(2 * i + 1, Ordering::Release);
+        while ball.load(Ordering::Acquire) != 2 * i + 2 {
+            std::hint::spin_loop();
+        }
+        let sum = buffer
+            .iter()
+            .fold(0u32, |a, w| a.wrapping_add(w.load(Ordering::Relaxed)));
+        std::hint::black_box(sum);
+        if i >= rounds / 11 {
+            rt.push(began.elapsed().as_secs_f64() * 1e6);
+        }
+    }
+    let _ = echo.join();
+    rt
+}
+
 /// `planner-bench raw [N]`: the floors under the plan round trip, busy polling on both
 /// sides, each against an echo process: the plan client library against a bare
 /// request-response echo server, bare iceoryx2 request-response and a pair of
 /// publish-subscribe services (ping and pong), each with thread-safe and single-threaded
-/// ports, and two threads bouncing an atomic (what the cores alone cost).
+/// ports, and two threads bouncing an atomic (what the cores alone cost), also with a
+/// 1200-waypoint answer's bytes written by one and read by the other.
 fn raw_floor(iterations: usize) -> anyhow::Result<()> {
     let exe = std::env::current_exe()?;
     let mut case = 0;
@@ -996,6 +1096,10 @@ fn raw_floor(iterations: usize) -> anyhow::Result<()> {
     print(
         "two threads bouncing an atomic",
         &mut atomic_ping(iterations),
+    );
+    print(
+        "  and handing over 1200 waypoints (9.6 KB)",
+        &mut handover_ping(iterations, 2 * 1200),
     );
     Ok(())
 }

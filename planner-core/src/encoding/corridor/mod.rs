@@ -1,6 +1,6 @@
 //! The general encoding: waypoints that slide across an exact guide route.
 //!
-//! Seed 000's column encoding cannot turn back, and a free-form waypoint encoding leaves the
+//! `Lei2024Warehouse`'s column encoding cannot turn back, and a free-form waypoint encoding leaves the
 //! optimizer to discover feasibility by itself (which is how the papers' GWO and TGWO failed
 //! on 30 x 30 warehouses). Here an exact reference route (the A* path, octile-optimal but
 //! stair-stepped) fixes the *homotopy* and guarantees feasibility; the optimizer decides the
@@ -16,14 +16,21 @@
 //! The cost is the decoded length. Random decision vectors give zig-zags and detours; the
 //! optimizer's work is to pull the string taut within the corridor (the planner then prunes
 //! collinear nodes and shortcuts).
+//!
+//! The leg cache, which spares most legs the exact segment check (see [`CorridorEncoding`]), is in
+//! the `cache` submodule.
+
+mod cache;
 
 use super::Encoding;
+use super::blend::{Blend, Trace};
 use crate::error::PlanError;
 use crate::geometry::{
     Cell, Point, clear_among, hull_blockers, hull_margin, quick_band, segment_is_clear,
 };
 use crate::grid::GridRef;
 use crate::path::PathView;
+use cache::{LISTED, LegCache, PairState, bucket, interval, pair_bit};
 
 /// A station on the guide route.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -38,11 +45,9 @@ pub struct Station {
     side: [(f32, f32); 2],
     /// Guide length from this station to the next.
     arc_to_next: f32,
-    /// The leg to the next station, cached per pair of waypoint intervals.
-    states: PairStates,
-    /// The blocked cells near the hulls of the leg's pairs, in up to [`SETS`] sets that
-    /// pairs point to; see [`Blockers`].
-    blockers: Blockers,
+    /// The leg to the next station, cached per pair of waypoint intervals, with the blocked
+    /// cells near the pairs' hulls.
+    cache: LegCache,
     /// The waypoint of the candidate under evaluation, its offset in `[-1, 1]` (0 at the
     /// fixed ends), and the straight length of its leg to the next waypoint: written by
     /// [`CorridorEncoding::straight`], read by the leg checks of that evaluation (placing
@@ -60,8 +65,7 @@ impl Station {
         point: Point::new(0.0, 0.0),
         side: [(0.0, 0.0); 2],
         arc_to_next: 0.0,
-        states: PairStates::EMPTY,
-        blockers: Blockers::EMPTY,
+        cache: LegCache::EMPTY,
         waypoint: Point::new(0.0, 0.0),
         offset: 0.0,
         straight: 0.0,
@@ -90,190 +94,11 @@ fn offset_of(v: f32) -> f32 {
     }
 }
 
-/// What the cache knows of one interval pair of a leg (three bits).
-///
-/// Most legs that the hull test cannot prove clear pass an obstacle's corner: the hull of
-/// their pair comes near one or two blocked cells, and only those can block them. Knowing
-/// them, [`segment_is_clear_among`](crate::geometry::segment_is_clear_among) gives the
-/// walk's verdict from those cells alone (mostly by a separating-axis test; a fifth of a
-/// walk on average). Neighbouring pairs mostly share the same cells, so pairs point to a
-/// few shared sets.
-mod pair_state {
-    /// Not tested yet.
-    pub const UNTESTED: u32 = 0;
-    /// Every leg between the two intervals is clear.
-    pub const CLEAR: u32 = 1;
-    /// Too many blocked cells near the hull (or the map's edge): walk.
-    pub const WALK: u32 = 2;
-    /// Its blocked cells were in a set that has been replaced since: test again.
-    pub const DISPLACED: u32 = 3;
-    /// Its blocked cells are set `state - IN_SET` of the station's [`super::Blockers`].
-    pub const IN_SET: u32 = 4;
-}
-
-/// The [`pair_state`] of each interval pair of a leg: three bits a pair, one in each of three
-/// 64-bit planes (two 32-bit words each, addressed by [`pair_bit`]).
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-struct PairStates([[u32; 2]; 3]);
-
-impl PairStates {
-    const EMPTY: PairStates = PairStates([[0; 2]; 3]);
-
-    /// Whether the pair is [`pair_state::CLEAR`] (`0b001`), from the three words at once:
-    /// most leg checks end here.
-    #[inline(always)]
-    fn is_clear(&self, (w, bit): (usize, u32)) -> bool {
-        let [p0, p1, p2] = &self.0;
-        p0[w] & !(p1[w] | p2[w]) & bit != 0
-    }
-
-    /// The pair's state.
-    #[inline(always)]
-    fn get(&self, (w, bit): (usize, u32)) -> u32 {
-        let [p0, p1, p2] = &self.0;
-        let on = |plane: &[u32; 2], shift: u32| u32::from(plane[w] & bit != 0) << shift;
-        on(p0, 0) | on(p1, 1) | on(p2, 2)
-    }
-
-    /// Sets the pair's state.
-    fn set(&mut self, (w, bit): (usize, u32), state: u32) {
-        for (plane, b) in self.0.iter_mut().zip(0..) {
-            if state >> b & 1 != 0 {
-                plane[w] |= bit;
-            } else {
-                plane[w] &= !bit;
-            }
-        }
-    }
-
-    /// Every pair in state `state` goes to [`pair_state::DISPLACED`] (`0b011`).
-    fn displace(&mut self, state: u32) {
-        let [p0, p1, p2] = &mut self.0;
-        let pick = |plane: u32, on: bool| if on { plane } else { !plane };
-        for w in 0..2 {
-            let hit = pick(p0[w], state & 1 != 0)
-                & pick(p1[w], state & 2 != 0)
-                & pick(p2[w], state & 4 != 0);
-            p0[w] |= hit;
-            p1[w] |= hit;
-            p2[w] &= !hit;
-        }
-    }
-}
-
-/// Most blocked cells in one set (see [`pair_state`]). In the firmware's TCLHHO plan on seed
-/// 000's 40x40 warehouse, 26,903 legs are judged from sets and 9,116 walked (their pairs come
-/// near three or more cells); sets of three cost more in instructions than they save.
-const LISTED: usize = 2;
-
-/// Sets of blocked cells per station (at most four: a set index is two bits). With four, 171
-/// of those 26,903 legs find their pair's set replaced and test the pair again (three sets
-/// measured 2.3% on an earlier build).
-const SETS: usize = 4;
-
-/// A station's sets of blocked cells, each cell as its offset from the station's cell (two
-/// bytes instead of four; a cell beyond +-127 of it is not listed: its pair walks).
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-struct Blockers {
-    cells: [[[i8; 2]; LISTED]; SETS],
-    /// The number of cells of set `k`, in bits `2k..2k + 2` (one byte for all: the RAM
-    /// budget of the firmware left no room for a fourth set otherwise).
-    lens: u8,
-    /// The set indices, two bits each, the most recently used in the lowest bits (a
-    /// permutation, set by `build`).
-    order: u8,
-}
-
-impl Blockers {
-    const EMPTY: Blockers = Blockers {
-        cells: [[[0; 2]; LISTED]; SETS],
-        lens: 0,
-        order: 0,
-    };
-
-    /// Fresh sets in the initial order (0 most recent).
-    const FRESH: Blockers = Blockers {
-        order: {
-            let mut order = 0;
-            let mut k = 0;
-            while k < SETS {
-                order |= (k as u8) << (2 * k);
-                k += 1;
-            }
-            order
-        },
-        ..Blockers::EMPTY
-    };
-
-    /// The number of cells of set `k`.
-    fn len(&self, k: usize) -> usize {
-        usize::from(self.lens >> (2 * (k % SETS)) & 3)
-    }
-
-    /// Sets set `k`'s cells.
-    fn put(&mut self, k: usize, cells: [[i8; 2]; LISTED], len: usize) {
-        let k = k % SETS;
-        self.cells[k] = cells;
-        self.lens = self.lens & !(3 << (2 * k)) | ((len as u8 & 3) << (2 * k));
-    }
-
-    /// The least recently used set.
-    fn oldest(&self) -> usize {
-        usize::from(self.order >> (2 * (SETS - 1)) & 3)
-    }
-
-    /// Marks set `k` the most recently used.
-    #[inline(always)]
-    fn touch(&mut self, k: usize) {
-        if usize::from(self.order & 3) != k {
-            self.promote(k);
-        }
-    }
-
-    /// [`touch`](Self::touch) for a set that is not the most recent one.
-    #[inline(never)]
-    fn promote(&mut self, k: usize) {
-        let order = u32::from(self.order);
-        let k = (k % SETS) as u32;
-        let at = (1..SETS as u32)
-            .find(|&p| order >> (2 * p) & 3 == k)
-            .unwrap_or(SETS as u32 - 1);
-        let below = order & ((1 << (2 * at)) - 1);
-        let above = order & !((1 << (2 * at + 2)) - 1);
-        self.order = (above | below << 2 | k) as u8;
-    }
-}
-
 /// The sign bit of an `f32`.
 const SIGN: u32 = 0x8000_0000;
 
 /// The bits of `1.0f32`: `|v| <= 1` exactly when `v.to_bits() & !SIGN <= ONE`.
 const ONE: u32 = 0x3f80_0000;
-
-/// Intervals per station in the leg cache: the offset range `[-1, 1]` in 8 equal parts, so
-/// that the 8 x 8 interval pairs of a leg fit in 64 bits (16 intervals proved 7% fewer legs
-/// clear without a walk, for four times the memory).
-const BUCKETS: usize = 8;
-
-/// The word and bit of interval pair `(i, j)` (`i, j < BUCKETS`) in a station's cache: bit
-/// `BUCKETS * i + j` of 64, in two 32-bit words (a variable `u64` shift is a branch and
-/// several instructions on a 32-bit core).
-#[inline(always)]
-fn pair_bit(i: usize, j: usize) -> (usize, u32) {
-    let k = i * BUCKETS + j;
-    ((k / 32) % 2, 1 << (k % 32))
-}
-
-/// The cache interval of an offset in `[-1, 1]`.
-fn bucket(v: f32) -> usize {
-    (((v + 1.0) * (BUCKETS as f32 / 2.0)) as usize).min(BUCKETS - 1)
-}
-
-/// The offsets that bound cache interval `i`.
-fn interval(i: usize) -> (f32, f32) {
-    let w = 2.0 / BUCKETS as f32;
-    (i as f32 * w - 1.0, (i + 1) as f32 * w - 1.0)
-}
 
 /// Step of the extent scan along a normal, in cells.
 const EXTENT_STEP: f32 = 0.25;
@@ -292,7 +117,7 @@ const MAX_MOVABLE: usize = 998;
 /// 2^-24` (exact in `f32` up to [`MAX_MOVABLE`]).
 ///
 /// The bound is raised leg by leg as repairs are found, not summed again in the cost's order
-/// (a walk over every leg per repair was a seventh of a plan on a Cortex-M4), so monotone
+/// (a pass over every leg per repair was a seventh of a plan on a Cortex-M4), so monotone
 /// rounding alone does not keep it below the cost. With `u = 2^-24` and `T` the real sum of
 /// the cost's terms: the cost, a recursive `f32` sum of `legs` terms, is at least
 /// `T (1 - legs u)`. The raised sum adds at most `2 legs` terms (straight lengths, then one
@@ -308,12 +133,12 @@ fn slack(legs: usize) -> f32 {
 
 /// The corridor encoding over a guide route.
 ///
-/// Most legs of a candidate run through open floor, yet an exact check walks every cell
+/// Most legs of a candidate run through open floor, yet an exact check scans every cell
 /// strip they cross. So each leg caches, per pair of waypoint intervals (an eighth of the
 /// offset range at each end), what the convex hull of the two intervals (the union of all
 /// legs between them) comes near (see [`hull_blockers`]): nothing within [`hull_margin`],
-/// and every leg in it is clear without a walk; one or two blocked cells, and a leg is
-/// judged from those cells alone ([`segment_is_clear_among`]); more, and it is walked. The
+/// and every leg in it is clear without the exact check; one or two blocked cells, and a leg is
+/// judged from those cells alone ([`segment_is_clear_among`]); more, and the exact check decides. The
 /// cache only skips work: costs and decodings are bit for bit those of the exact check
 /// alone.
 ///
@@ -334,6 +159,8 @@ pub struct CorridorEncoding<'a> {
     hot: HotLegs,
     /// [`slack`] for the legs here.
     slack: f32,
+    /// The objective beyond length ([`Blend::LENGTH`]: length alone).
+    blend: Blend,
 }
 
 /// A set of legs, bit `s` for leg `s`: one machine word (a `u64` took two registers per set
@@ -350,10 +177,8 @@ fn leg_bit(s: usize) -> LegSet {
 
 /// The legs (below 32) that needed a repair in an earlier exact pass, in the order a bounded
 /// evaluation checks them: the one whose repair last proved a cost too high first, the others
-/// in the order they last did (move to front). With the last decisive leg first and the
-/// others by index, a TCLHHO plan rejected at the first check 55% of the candidates that
-/// some hot leg rejects, but took 5.5 checks for the others (3.05 on average); in this
-/// order, 1.67.
+/// in the order they last did (move to front): 1.67 checks on average before a rejection,
+/// against 3.05 with the others by index (`docs/perf-notes.md`).
 #[derive(Clone, Copy, Debug)]
 struct HotLegs {
     order: [u8; 32],
@@ -484,7 +309,7 @@ impl<'a> CorridorEncoding<'a> {
             ..Station::default()
         };
         for s in 0..k + 2 {
-            stations[s].blockers = Blockers::FRESH;
+            stations[s].cache = LegCache::FRESH;
             let i = stations[s].index as usize;
             if s + 1 < k + 2 {
                 let j = stations[s + 1].index as usize;
@@ -542,7 +367,47 @@ impl<'a> CorridorEncoding<'a> {
             band: quick_band(grid, margin),
             hot: HotLegs::EMPTY,
             slack: slack(k + 1),
+            blend: Blend::LENGTH,
         })
+    }
+
+    /// Costs paths by `blend` (length plus its turning and clearance terms) instead of
+    /// their length; decoding is unchanged.
+    pub fn with_blend(mut self, blend: Blend) -> Self {
+        self.blend = blend;
+        self
+    }
+
+    /// Whether the cost is length alone (always without the `blend` feature).
+    fn length_only(&self) -> bool {
+        !cfg!(feature = "blend") || self.blend.is_length()
+    }
+
+    /// `length` (the placed waypoints' decoded length) plus the blend's terms over the
+    /// decoded path (repaired legs along the guide, as [`decode`](Encoding::decode) gives
+    /// them); stops adding once the sum reaches `bound`, which is then a lower bound.
+    #[inline(never)]
+    fn blended(&mut self, length: f32, bound: f32) -> f32 {
+        let grid = self.grid;
+        let mut trace = Trace::new(self.blend);
+        trace.push_extra(grid, self.stations[0].waypoint);
+        for s in 0..self.stations.len() - 1 {
+            if !self.leg_is_clear(s) {
+                let (i, j) = (
+                    self.stations[s].index as usize,
+                    self.stations[s + 1].index as usize,
+                );
+                for &g in self.guide.get(i..j).unwrap_or(&[]) {
+                    trace.push_extra(grid, g);
+                }
+                trace.push_extra(grid, self.stations[s + 1].point);
+            }
+            trace.push_extra(grid, self.stations[s + 1].waypoint);
+            if length + trace.extra() >= bound {
+                break;
+            }
+        }
+        length + trace.extra()
     }
 
     /// The guide indices of the movable stations.
@@ -592,7 +457,7 @@ impl<'a> CorridorEncoding<'a> {
     /// bounds the cost from below, once shrunk by [`slack`] for rounding.
     #[inline(always)]
     fn straight(&mut self, x: &[f32]) -> f32 {
-        // The usual case walks the movable stations and the variables side by side, without
+        // The usual case steps through the movable stations and the variables side by side, without
         // an index check or end test per leg: this is the hottest loop of a plan on a
         // Cortex-M4 (every bounded evaluation starts with it).
         if let Some((first, rest)) = self.stations.split_first_mut()
@@ -600,7 +465,7 @@ impl<'a> CorridorEncoding<'a> {
             && x.len() >= movable.len()
         {
             // Optimizers keep every variable in `[-1, 1]`, where `offset_of` is the identity:
-            // the walk takes them as they are and checks afterwards, on the bits, that they
+            // the loop takes them as they are and checks afterwards, on the bits, that they
             // were: `|v| <= 1` exactly when `(bits & !SIGN) + (SIGN - 1 - ONE)` leaves the
             // sign bit clear (NaN's bits are above; nothing wraps), so the sign bits of all
             // of them are or-ed. Three integer instructions per variable on a Cortex-M4,
@@ -659,13 +524,12 @@ impl<'a> CorridorEncoding<'a> {
         self.repaired_leg(s, a, b)
     }
 
-    /// Tests interval pair `(i, j)` of leg `s` into the cache: its new [`pair_state`], with
-    /// the blocked cells near its hull put in a set (one with the same cells, or the least
-    /// recently used one, whose pairs become [`pair_state::DISPLACED`]).
+    /// Tests interval pair `(i, j)` of leg `s` into the cache: its new [`PairState`], with
+    /// the blocked cells near its hull put in a set ([`LegCache::record`]).
     /// Out of line: it runs a few hundred times per plan, and inlined, its locals would
     /// deepen the stack frame of every evaluation.
     #[inline(never)]
-    fn test_pair(&mut self, s: usize, i: usize, j: usize) -> u32 {
+    fn test_pair(&mut self, s: usize, i: usize, j: usize) -> PairState {
         let pair = pair_bit(i, j);
         let ((a0, a1), (b0, b1)) = (interval(i), interval(j));
         let hull = [
@@ -696,70 +560,51 @@ impl<'a> CorridorEncoding<'a> {
                         }
                     })
         });
-        let state = match fits {
-            Some(0) => pair_state::CLEAR,
-            None => pair_state::WALK,
-            Some(n) => {
-                let b = &mut st.blockers;
-                let same =
-                    (0..SETS).find(|&k| b.len(k) == n && b.cells[k].get(..n) == cells.get(..n));
-                let k = same.unwrap_or_else(|| {
-                    let k = b.oldest();
-                    b.put(k, cells, n);
-                    // Pairs that pointed to the replaced set must test again.
-                    st.states.displace(pair_state::IN_SET + k as u32);
-                    k
-                });
-                st.blockers.touch(k);
-                pair_state::IN_SET + k as u32
-            }
-        };
-        st.states.set(pair, state);
-        state
+        st.cache.record(pair, fits, cells)
     }
 
     /// Whether leg `s` from `a` to `b` is clear, decided from set `k` of the station's
     /// blocked cells (those of the leg's interval pair).
     #[inline(always)]
-    fn clear_among_set(&mut self, s: usize, a: Point, b: Point, k: u32) -> bool {
+    fn clear_among_set(&mut self, s: usize, a: Point, b: Point, k: u8) -> bool {
         let st = &mut self.stations[s];
-        let k = (k as usize) % SETS;
-        st.blockers.touch(k);
-        let st = &self.stations[s];
         // The station's point is a cell centre (the guide is a grid path), so the cells'
         // centres are its coordinates plus the offsets.
         let p = st.point;
-        let centres = st.blockers.cells[k].iter().take(st.blockers.len(k));
+        let centres = st.cache.use_set(k);
         let centres = centres.map(|o| Point::new(p.x + f32::from(o[0]), p.y + f32::from(o[1])));
         clear_among(self.grid, a, b, centres, self.band)
     }
 
     /// Whether leg `s` between the placed waypoints is clear, by what its interval pair's
-    /// [`pair_state`] allows: clear outright (most legs, so this part is inlined), or
+    /// [`PairState`] allows: clear outright (most legs, so this part is inlined), or
     /// [`leg_is_clear_beyond`](Self::leg_is_clear_beyond).
     #[inline(always)]
     fn leg_is_clear(&mut self, s: usize) -> bool {
         let (from, to) = (&self.stations[s], &self.stations[s + 1]);
         let (i, j) = (bucket(from.offset), bucket(to.offset));
-        if from.states.is_clear(pair_bit(i, j)) {
+        if from.cache.is_clear(pair_bit(i, j)) {
             return true;
         }
         self.leg_is_clear_beyond(s, i, j)
     }
 
     /// [`leg_is_clear`](Self::leg_is_clear) for a pair that is not known clear: from the
-    /// pair's set of blocked cells, or by the exact walk (testing the pair first if needed).
+    /// pair's set of blocked cells, or by the exact check (testing the pair first if needed).
     #[inline(always)]
     fn leg_is_clear_beyond(&mut self, s: usize, i: usize, j: usize) -> bool {
-        let mut state = self.stations[s].states.get(pair_bit(i, j));
-        if matches!(state, pair_state::UNTESTED | pair_state::DISPLACED) {
+        let mut state = self.stations[s].cache.state(pair_bit(i, j));
+        if matches!(state, PairState::Untested | PairState::Displaced) {
             state = self.test_pair(s, i, j);
         }
         let (a, b) = (self.stations[s].waypoint, self.stations[s + 1].waypoint);
         match state {
-            pair_state::CLEAR => true,
-            pair_state::WALK => segment_is_clear(self.grid, a, b),
-            k => self.clear_among_set(s, a, b, k - pair_state::IN_SET),
+            PairState::Clear => true,
+            PairState::InSet(k) => self.clear_among_set(s, a, b, k),
+            // (A tested pair is never untested or displaced.)
+            PairState::Exact | PairState::Untested | PairState::Displaced => {
+                segment_is_clear(self.grid, a, b)
+            }
         }
     }
 
@@ -815,7 +660,11 @@ impl Encoding for CorridorEncoding<'_> {
 
     fn cost(&mut self, x: &[f32]) -> f32 {
         let mut sum = self.straight(x);
-        self.exact::<false>((0, 0), &mut sum, f32::INFINITY)
+        let length = self.exact::<false>((0, 0), &mut sum, f32::INFINITY);
+        if self.length_only() {
+            return length;
+        }
+        self.blended(length, f32::INFINITY)
     }
 
     fn cost_below(&mut self, x: &[f32], bound: f32) -> f32 {
@@ -853,7 +702,12 @@ impl Encoding for CorridorEncoding<'_> {
             }
         }
         // The exact sum, in `cost`'s order; each newly repaired leg raises the bound again.
-        self.exact::<true>((clear, repaired), &mut sum, bound)
+        let length = self.exact::<true>((clear, repaired), &mut sum, bound);
+        // The terms are never negative: a length at or above the bound bounds the blend too.
+        if self.length_only() || length >= bound {
+            return length;
+        }
+        self.blended(length, bound)
     }
 
     fn decode(&mut self, x: &[f32], out: &mut PathView) -> Result<(), PlanError> {

@@ -8,9 +8,9 @@
 //! Shelf units are `shelf_depth` cells wide (double-sided racks), `shelf_len` cells long;
 //! aisles are `aisle` cells wide; `cross` free rows separate the shelf blocks.
 
-use super::{MapLoadError, MapOptions};
 use planner_core::geometry::Cell;
 use planner_core::grid::GridBuf;
+use planner_mapfile::{MapLoadError, MapOptions};
 
 /// Layout parameters (cells).
 #[derive(Clone, Copy, Debug, clap::Args, serde::Serialize)]
