@@ -237,7 +237,7 @@ fn slow_map_consumer_loses_nothing() {
     c.wait_for_map(1, 1, T).unwrap();
     let maps: Vec<(GridBuf, usize)> = (2..=30).map(versioned_map).collect();
 
-    planner.signal("STOP");
+    planner.stop();
     let mut slowest = Duration::ZERO;
     let began = Instant::now();
     for (v, (grid, _)) in (2..=30).zip(&maps) {

@@ -78,6 +78,29 @@ impl Proc {
         assert!(status.success());
     }
 
+    /// Sends `STOP` and waits until every thread of the process is stopped: `kill` returns
+    /// once the signal is queued, and a thread of a busy machine stops when next scheduled.
+    pub fn stop(&self) {
+        self.signal("STOP");
+        let tasks = PathBuf::from(format!("/proc/{}/task", self.child.id()));
+        let stopped = |task: std::fs::DirEntry| {
+            let stat = std::fs::read_to_string(task.path().join("stat")).unwrap_or_default();
+            // The state follows the command's closing parenthesis.
+            let state = stat
+                .rsplit_once(')')
+                .and_then(|(_, r)| r.trim().chars().next());
+            matches!(state, Some('T' | 't'))
+        };
+        let began = Instant::now();
+        while !std::fs::read_dir(&tasks)
+            .unwrap()
+            .all(|t| t.map(stopped).unwrap_or(true))
+        {
+            assert!(began.elapsed() < Duration::from_secs(10), "not stopped");
+            std::thread::sleep(Duration::from_millis(1));
+        }
+    }
+
     /// Waits for the exit status, at most `timeout`.
     pub fn wait_exit(&mut self, timeout: Duration) -> Option<std::process::ExitStatus> {
         let began = Instant::now();
