@@ -66,6 +66,7 @@ fn main() {
             anyangle: None,
             nodes: &mut astar_nodes,
             open: &mut open,
+            theta: &mut [],
             guide: &mut *guide,
             visited: &mut visited,
             stations: &mut [Station::EMPTY; 64],

@@ -288,6 +288,7 @@ fn run(
                 }),
                 nodes: &mut nodes,
                 open: &mut open,
+                theta: &mut [],
                 guide: &mut guide,
                 visited: &mut visited,
                 stations: &mut stations,

@@ -142,7 +142,7 @@ pub struct SwarmArgs {
     #[arg(long, default_value_t = 0.0, value_parser = non_negative)]
     pub clearance: f32,
     /// Blended objective: cost (cells) per cell of path per cell of missing clearance.
-    #[arg(long, default_value_t = 4.0, value_parser = non_negative)]
+    #[arg(long, default_value_t = 16.0, value_parser = non_negative)]
     pub clearance_weight: f32,
     /// Blended objective: cost (cells) per radian of turning, plus a quarter radian per turn;
     /// 0: none.

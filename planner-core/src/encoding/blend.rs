@@ -29,7 +29,7 @@
 //! assert_eq!(blend.path_cost(grid.view(), &wide), 9.0);
 //! ```
 
-use crate::geometry::{Point, point_clearance, segment_is_clear};
+use crate::geometry::{Point, point_clearance, segment_clearance, segment_is_clear};
 use crate::grid::GridRef;
 use crate::path::PathView;
 
@@ -97,6 +97,19 @@ impl Blend {
         self.clearance_weight * shortfall(grid, a, b, self.clearance)
     }
 
+    /// [`leg_cost`](Self::leg_cost) with the deepest point found exactly
+    /// ([`segment_clearance`]) instead of among the samples: a final path's leg may pass a
+    /// corner between two samples.
+    fn leg_cost_exact(&self, grid: GridRef<'_>, a: Point, b: Point) -> f32 {
+        if !self.has_clearance() || a == b {
+            return 0.0;
+        }
+        let c = self.clearance;
+        let (integral, deepest) = shortfall_parts(grid, a, b, c);
+        let exact = c - segment_clearance(grid, a, b, c);
+        self.clearance_weight * (integral + deepest.max(exact))
+    }
+
     /// The turning term at `b` between `a -> b` and `b -> c` (weighted; 0 without a turn).
     pub fn turn_cost(&self, a: Point, b: Point, c: Point) -> f32 {
         if self.turn_weight == 0.0 {
@@ -153,7 +166,9 @@ impl Blend {
     /// Moves interior waypoints, one at a time, in eight directions by steps from
     /// one cell down to 1/64 cell (halved in between), wherever that lowers the blended cost and keeps
     /// both legs clear: a swarm's waypoints settle near the right place, and the last
-    /// fraction of a cell is where a corner is grazed or cleared. A valid path stays valid.
+    /// fraction of a cell is where a corner is grazed or cleared. Each waypoint then moves onto
+    /// the half-cell lattice (an aisle's centre line) where that costs no more. A valid path
+    /// stays valid.
     pub fn polish(&self, grid: GridRef<'_>, path: &mut PathView) {
         const D: f32 = core::f32::consts::FRAC_1_SQRT_2;
         const DIRS: [(f32, f32); 8] = [
@@ -174,7 +189,7 @@ impl Blend {
                 let n = hi - lo + 1;
                 window[..n].copy_from_slice(&path[lo..=hi]);
                 let at = i - lo;
-                let mut cost = self.window_cost(grid, &window[..n]);
+                let mut cost = self.moved_cost(grid, &window[..n], at);
                 let mut step = POLISH_STEPS.0;
                 while step >= POLISH_STEPS.1 {
                     let p = window[at];
@@ -182,7 +197,7 @@ impl Blend {
                     for (dx, dy) in DIRS {
                         let q = Point::new(p.x + dx * step, p.y + dy * step);
                         window[at] = q;
-                        let c = self.window_cost(grid, &window[..n]);
+                        let c = self.moved_cost(grid, &window[..n], at);
                         if c < best.map_or(cost, |b| b.0)
                             && segment_is_clear(grid, window[at - 1], q)
                             && segment_is_clear(grid, q, window[at + 1])
@@ -202,6 +217,24 @@ impl Blend {
                         }
                     }
                 }
+                // Aisle centres lie on the half-cell lattice; the steps stop 1/64 short.
+                let p = window[at];
+                let half = |v: f32| libm::roundf(v * 2.0) * 0.5;
+                for q in [
+                    Point::new(half(p.x), half(p.y)),
+                    Point::new(half(p.x), p.y),
+                    Point::new(p.x, half(p.y)),
+                ] {
+                    window[at] = q;
+                    if q != p
+                        && self.moved_cost(grid, &window[..n], at) <= cost
+                        && segment_is_clear(grid, window[at - 1], q)
+                        && segment_is_clear(grid, q, window[at + 1])
+                    {
+                        break;
+                    }
+                    window[at] = p;
+                }
                 path[i] = window[at];
             }
             if !moved {
@@ -210,12 +243,30 @@ impl Blend {
         }
     }
 
+    /// The part of [`window_cost`](Self::window_cost) that moving `window[at]` changes: its
+    /// two legs and the turns at it and its neighbours.
+    fn moved_cost(&self, grid: GridRef<'_>, window: &[Point], at: usize) -> f32 {
+        let (p, prev, next) = (window[at], window[at - 1], window[at + 1]);
+        let legs = prev.distance(p)
+            + p.distance(next)
+            + self.leg_cost_exact(grid, prev, p)
+            + self.leg_cost_exact(grid, p, next);
+        let turns: f32 = window
+            .windows(3)
+            .enumerate()
+            .filter(|(k, _)| (at - 1..=at + 1).contains(&(k + 1)))
+            .map(|(_, w)| self.turn_cost(w[0], w[1], w[2]))
+            .sum();
+        legs + turns
+    }
+
     /// The cost of a window of a path: its legs and the turns at its interior waypoints
-    /// (the turns at its ends belong to the neighbouring windows).
+    /// (the turns at its ends belong to the neighbouring windows); legs exactly
+    /// ([`leg_cost_exact`](Self::leg_cost_exact)).
     fn window_cost(&self, grid: GridRef<'_>, window: &[Point]) -> f32 {
         let legs: f32 = window
             .windows(2)
-            .map(|w| w[0].distance(w[1]) + self.leg_cost(grid, w[0], w[1]))
+            .map(|w| w[0].distance(w[1]) + self.leg_cost_exact(grid, w[0], w[1]))
             .sum();
         let turns: f32 = window
             .windows(3)
@@ -310,9 +361,15 @@ pub fn turn_angle(a: Point, b: Point, c: Point) -> Option<f32> {
 /// no slope where the path just touches the desired clearance (the part within it shrinks to
 /// nothing), so plans would settle short of it; the deepest point keeps a slope there.
 pub fn shortfall(grid: GridRef<'_>, a: Point, b: Point, clearance: f32) -> f32 {
+    let (integral, deepest) = shortfall_parts(grid, a, b, clearance);
+    integral + deepest
+}
+
+/// [`shortfall`]'s integral and its deepest sample, apart.
+fn shortfall_parts(grid: GridRef<'_>, a: Point, b: Point, clearance: f32) -> (f32, f32) {
     let length = a.distance(b);
     if length.is_nan() || length <= 0.0 || clearance.is_nan() || clearance <= 0.0 {
-        return 0.0;
+        return (0.0, 0.0);
     }
     let n = libm::ceilf(length / CLEARANCE_STEP).max(1.0);
     let step = 1.0 / n;
@@ -326,7 +383,7 @@ pub fn shortfall(grid: GridRef<'_>, a: Point, b: Point, clearance: f32) -> f32 {
         deepest = deepest.max(missing);
         k += 1.0;
     }
-    sum * length * step + deepest
+    (sum * length * step, deepest)
 }
 
 /// The share of a path's length (0 to 1) that passes closer than `clearance` to an

@@ -52,7 +52,7 @@ use crate::optim::{Bounds, Objective, OptimError, Settings};
 use crate::path::{self, PathView};
 use crate::search::anyangle::{self, Mesh, Scratch};
 use crate::search::astar::{self, AStarNode, OpenSlot};
-use crate::search::check_endpoints;
+use crate::search::{SearchNode, check_endpoints, theta as theta_star};
 
 /// Every planner of the crate, by its command-line name.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -167,6 +167,31 @@ impl GuideKind {
         match self {
             GuideKind::AnyAngle => "anyangle",
             GuideKind::AStar => "astar",
+        }
+    }
+}
+
+/// The route a corridor plan's guide was made of ([`PlanReport::guide`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub enum GuideRoute {
+    /// The shortest any-angle path.
+    AnyAngle,
+    /// The octile A* route (asked for, or the any-angle search ran past its bound).
+    AStar,
+    /// The Theta* route: a blended objective found it cheaper than the any-angle route
+    /// ([`PlanStorageMut::theta`]).
+    Theta,
+}
+
+impl GuideRoute {
+    /// `anyangle`, `astar` or `theta`.
+    pub const fn name(self) -> &'static str {
+        match self {
+            GuideRoute::AnyAngle => "anyangle",
+            GuideRoute::AStar => "astar",
+            GuideRoute::Theta => "theta",
         }
     }
 }
@@ -322,11 +347,12 @@ pub struct PlanReport {
     pub stop: PlanStop,
     /// Entries written to the history buffer.
     pub history_len: usize,
-    /// The corridor encoding's guide route: the any-angle route, or the A* route when the
+    /// The corridor encoding's guide route: the any-angle route, the A* route when the
     /// any-angle search ran past its bound ([`ANYANGLE_GUIDE_CELLS_PER_NODE`]) or A* was
-    /// asked for. `None` for the other encodings.
+    /// asked for, or the Theta* route a blended objective preferred. `None` for the other
+    /// encodings.
     #[cfg_attr(feature = "serde", serde(default))]
-    pub guide: Option<GuideKind>,
+    pub guide: Option<GuideRoute>,
 }
 
 /// Everything [`plan`] works in, borrowed from the caller (no allocation happens inside):
@@ -343,6 +369,11 @@ pub struct PlanStorageMut<'a, O> {
     /// The A* open list: [`astar::open_capacity`] slots never overflow; fewer are the
     /// caller's choice ([`PlanError::CapacityExceeded`] when a search outgrows them).
     pub open: &'a mut [OpenSlot],
+    /// One Theta* node per map cell: with a blended objective (not length alone) the
+    /// Theta* route is the guide when its blended cost is lower than the any-angle
+    /// route's (it follows aisles with few turns where the shortest path zigzags across
+    /// them). Empty: the any-angle route only.
+    pub theta: &'a mut [SearchNode],
     /// The guide route of the corridor encoding (up to its capacity in waypoints).
     pub guide: &'a mut PathView,
     /// A bitset of `cells / 32 + 1` words for the walk encoding; other encodings never read
@@ -422,6 +453,7 @@ pub fn plan<const N: usize, const D: usize, O: PlanOptimizer<N, D>>(
         anyangle,
         nodes,
         open,
+        theta,
         guide,
         visited,
         stations,
@@ -468,19 +500,24 @@ pub fn plan<const N: usize, const D: usize, O: PlanOptimizer<N, D>>(
             match anyangle::plan_within(grid, &aa.mesh, start, goal, scratch, out, budget) {
                 Ok(_) => {
                     guide::relax(grid, out, params.guide_relax);
+                    let kind = if smoother_theta(grid, start, goal, params, theta, out, guide) {
+                        GuideRoute::Theta
+                    } else {
+                        GuideRoute::AnyAngle
+                    };
                     guide::resample(grid, out, guide);
-                    GuideKind::AnyAngle
+                    kind
                 }
                 Err(PlanError::BudgetExhausted) if nodes.len() >= grid.cells() => {
                     astar::plan(grid, start, goal, nodes, open, guide)?;
-                    GuideKind::AStar
+                    GuideRoute::AStar
                 }
                 Err(e) => return Err(e),
             }
         }
         GuideKind::AStar => {
             astar::plan(grid, start, goal, nodes, open, guide)?;
-            GuideKind::AStar
+            GuideRoute::AStar
         }
     };
     let mut report = match params.encoding {
@@ -542,6 +579,38 @@ pub fn plan<const N: usize, const D: usize, O: PlanOptimizer<N, D>>(
         report.guide = Some(guide_used);
     }
     Ok(report)
+}
+
+/// With a blended objective and Theta* nodes for the map: plans Theta* into `spare` and, if
+/// its route (relaxed off corners like the any-angle one) costs less than `route` under the
+/// blend, copies it into `route`. Returns whether it did.
+fn smoother_theta(
+    grid: GridRef<'_>,
+    start: Cell,
+    goal: Cell,
+    params: &PlanParams,
+    theta: &mut [SearchNode],
+    route: &mut PathView,
+    spare: &mut PathView,
+) -> bool {
+    if !cfg!(feature = "blend") || params.blend.is_length() || theta.len() < grid.cells() {
+        return false;
+    }
+    if theta_star::plan(grid, start, goal, theta, spare).is_err() {
+        return false;
+    }
+    guide::relax(grid, spare, params.guide_relax);
+    let blend = params.blend;
+    if blend.path_cost(grid, spare) >= blend.path_cost(grid, route)
+        || spare.len() > route.capacity()
+    {
+        return false;
+    }
+    route.clear();
+    for p in spare.iter() {
+        let _ = route.push(*p);
+    }
+    true
 }
 
 fn check_params(p: &PlanParams) -> Result<(), PlanError> {

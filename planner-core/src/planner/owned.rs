@@ -185,6 +185,15 @@ impl HostPlanner {
         out: &mut PathView,
         options: PlanOptions<'_>,
     ) -> Result<PlanReport, PlanError> {
+        // A blended plan may prefer the Theta* route as its guide.
+        let theta: &mut [SearchNode] = if params.blend.is_length() {
+            &mut []
+        } else {
+            if self.theta_nodes.len() < self.cells {
+                self.theta_nodes = vec![SearchNode::EMPTY; self.cells];
+            }
+            &mut self.theta_nodes
+        };
         let mut storage = PlanStorageMut {
             anyangle: Some(AnyAngleWorkspace {
                 mesh: self.mesh.mesh(),
@@ -195,6 +204,7 @@ impl HostPlanner {
             }),
             nodes: &mut self.nodes,
             open: &mut self.open,
+            theta,
             guide: &mut *self.guide,
             visited: &mut self.visited,
             stations: &mut self.stations[..],

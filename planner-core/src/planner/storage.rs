@@ -112,6 +112,7 @@ impl<
             }),
             nodes: &mut [],
             open: &mut [],
+            theta: &mut [],
             guide: &mut self.guide,
             visited: &mut [],
             stations: &mut self.stations,

@@ -54,6 +54,7 @@ impl Scratch {
             }),
             nodes: &mut self.nodes,
             open: &mut self.open,
+            theta: &mut [],
             guide: &mut self.guide,
             visited: &mut self.visited,
             stations,
@@ -284,6 +285,7 @@ fn every_error_from_bad_input() {
         anyangle: None,
         nodes: &mut nodes,
         open: &mut open,
+        theta: &mut [],
         guide: &mut guide,
         visited: &mut visited,
         stations: &mut [Station::EMPTY; 64],
@@ -480,6 +482,7 @@ fn anyangle_guide_without_its_workspace_is_invalid() {
         anyangle: None,
         nodes: &mut nodes,
         open: &mut open,
+        theta: &mut [],
         guide: &mut guide,
         visited: &mut [],
         stations: &mut [Station::EMPTY; 16],
@@ -515,6 +518,7 @@ fn visited_bitset_only_for_the_walk_encoding() {
             anyangle: None,
             nodes: &mut nodes,
             open: &mut open,
+            theta: &mut [],
             guide: &mut guide,
             visited: &mut [],
             stations: &mut [Station::EMPTY; 64],
@@ -586,11 +590,11 @@ fn dense_lattices_fall_back_to_the_a_star_guide() {
             .unwrap()
     };
     let far = run(&mut planner, &mut out, s, t);
-    assert_eq!(far.report.unwrap().guide, Some(GuideKind::AStar));
+    assert_eq!(far.report.unwrap().guide, Some(GuideRoute::AStar));
     assert_eq!(validate(g.view(), &out[..], s, t), Ok(()));
     // A short query stays within the bound.
     let near = run(&mut planner, &mut out, s, Cell::new(20, 1));
-    assert_eq!(near.report.unwrap().guide, Some(GuideKind::AnyAngle));
+    assert_eq!(near.report.unwrap().guide, Some(GuideRoute::AnyAngle));
 }
 
 /// [`PlanStorage`] plans as [`plan`] does over the same buffers with [`HhoOrGwo`], switches
@@ -772,4 +776,61 @@ fn blended_plans_keep_their_clearance() {
         run(AlgorithmKind::Tclhho, nan).err(),
         Some(PlanError::InvalidParameters)
     );
+}
+
+/// With a turning term, a blended plan across a block of one-cell aisles takes the Theta*
+/// route as its guide (along an aisle) instead of the shortest path's staircase through the
+/// shelf gaps, and keeps to the aisle centres (half a cell, the most there is).
+#[cfg(all(feature = "alloc", feature = "blend"))]
+#[test]
+fn blended_plans_prefer_the_smoother_guide() {
+    use super::aco::AcoParams;
+    use super::owned::{HostPlanner, PlanChoice};
+    use crate::encoding::blend::Blend;
+    use crate::grid::GridBuf;
+    use crate::path::{clearance, turns};
+    // Shelves two rows deep between one-cell aisles, a one-cell gap every 11 columns, open
+    // floor left and right (Moving AI's warehouse-10-20-10-2-1 in small).
+    let (w, h) = (70, 31);
+    let mut g = GridBuf::new(w, h).unwrap();
+    for y in 2..h - 2 {
+        for x in 12..w - 12 {
+            if (y - 2) % 3 < 2 && (x - 12) % 11 < 10 {
+                g.set_blocked(x, y, true).unwrap();
+            }
+        }
+    }
+    let mut planner = HostPlanner::new();
+    planner.prepare(g.view()).unwrap();
+    let (s, t) = (Cell::new(66, 28), Cell::new(3, 2));
+    let mut out: Box<Path<1024>> = Box::new(Path::new());
+    let mut run = |kind, blend| {
+        let choice = PlanChoice {
+            kind,
+            params: PlanParams {
+                blend,
+                ..PlanParams::host(AlgorithmKind::Tclhho)
+            },
+            aco: AcoParams::default(),
+        };
+        let o = planner
+            .plan(g.view(), s, t, &choice, &mut *out, PlanOptions::default())
+            .unwrap();
+        (o, out.to_vec())
+    };
+    let smooth = Blend {
+        clearance: 0.5,
+        clearance_weight: 16.0,
+        turn_weight: 1.0,
+    };
+    let (_, shortest) = run(PlannerKind::AnyAngle, Blend::LENGTH);
+    let (_, theta) = run(PlannerKind::Theta, Blend::LENGTH);
+    let (blended, path) = run(PlannerKind::Swarm(AlgorithmKind::Tclhho), smooth);
+    assert_eq!(validate(g.view(), &path, s, t), Ok(()));
+    let report = blended.report.unwrap();
+    assert_eq!(report.guide, Some(GuideRoute::Theta));
+    assert!(turns(&shortest) > 2 * turns(&path), "{shortest:?} {path:?}");
+    assert!(turns(&path) <= turns(&theta), "{theta:?} {path:?}");
+    let c = clearance(g.view(), &path, 1.0);
+    assert!(c >= 0.49, "clearance {c}: {path:?}");
 }

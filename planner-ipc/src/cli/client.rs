@@ -167,7 +167,7 @@ struct PlanArgs {
     #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
     clearance: f32,
     /// Blended objective: cost per cell of path per cell of missing clearance.
-    #[arg(long, default_value_t = 4.0, allow_hyphen_values = true)]
+    #[arg(long, default_value_t = 16.0, allow_hyphen_values = true)]
     clearance_weight: f32,
     /// Blended objective: cost in cells per radian of turning (0: none).
     #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]

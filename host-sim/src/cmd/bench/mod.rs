@@ -2,6 +2,7 @@
 //! quality and speed. Each prints a table, and writes JSON and CSV (and pictures where the
 //! papers have figures) under `--out`.
 
+pub mod clearance_bound;
 pub mod lowerbound;
 pub mod movingai;
 pub mod paper;

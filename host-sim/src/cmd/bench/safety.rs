@@ -5,15 +5,18 @@
 //! generated warehouses (with and without clutter), per planner: length against the exact
 //! any-angle path, the smallest clearance of any path, how many paths keep the desired
 //! clearance where their endpoints allow it, the share of length closer than it, turns,
-//! total turning and time.
+//! total turning and time; and per map a lower bound on the length of any path that keeps
+//! the desired clearance ([`clearance_bound`](super::clearance_bound)), which says where a
+//! length goal cannot be met with that clearance.
 
+use super::clearance_bound::{ClearanceBound, WidestRoute};
 use super::movingai::{WAREHOUSES, read_scen};
 use super::scale::make_case;
 use super::{fmt, mean_std, print_table, write_csv, write_json};
 use crate::render::{Layer, MapPicture, Style};
 use anyhow::Context;
 use planner_core::encoding::blend::{share_within, total_turning};
-use planner_core::geometry::{Cell, Point, point_clearance};
+use planner_core::geometry::{Cell, Point};
 use planner_core::grid::GridBuf;
 use planner_core::optim::any::AlgorithmKind;
 use planner_core::path::{self, Path};
@@ -41,10 +44,10 @@ pub struct SafetyArgs {
     #[arg(long, default_value_t = 1.0)]
     pub clearance: f32,
     /// Weight of missing clearance.
-    #[arg(long, default_value_t = 4.0)]
+    #[arg(long, default_value_t = 16.0)]
     pub clearance_weight: f32,
     /// Weight of turning.
-    #[arg(long, default_value_t = 0.5)]
+    #[arg(long, default_value_t = 1.0)]
     pub turn_weight: f32,
     /// Seed (query `k` uses `seed + k`).
     #[arg(long, default_value_t = 1)]
@@ -74,8 +77,8 @@ pub struct Summary {
     pub max_ratio: f64,
     /// Smallest clearance of any path (cells, capped at twice the desired).
     pub min_clearance: f64,
-    /// Paths whose clearance is at least the desired one, or the smaller of their
-    /// endpoints' clearance where that is less.
+    /// Paths whose clearance is at least the desired one, or where no route has it, that
+    /// of the widest route over cell centres ([`WidestRoute`]).
     pub kept: usize,
     /// Mean share of length closer than the desired clearance.
     pub share_within: f64,
@@ -85,6 +88,24 @@ pub struct Summary {
     pub turning_deg: f64,
     /// Mean time per plan, ms.
     pub mean_ms: f64,
+}
+
+/// The lower bound on one map.
+#[derive(Serialize)]
+pub struct BoundSummary {
+    /// Map.
+    pub map: String,
+    /// Queries.
+    pub queries: usize,
+    /// Queries with a path that keeps the clearance (the desired one, or the widest
+    /// route's where less).
+    pub possible: usize,
+    /// Mean of bound / the any-angle length.
+    pub mean_ratio: f64,
+    /// Largest bound / the any-angle length.
+    pub max_ratio: f64,
+    /// Queries whose bound is over 1.03 x the any-angle length.
+    pub over_3pct: usize,
 }
 
 /// The planners compared: exact ones by length, the swarm planners blended.
@@ -141,24 +162,105 @@ pub fn run(args: &SafetyArgs) -> anyhow::Result<()> {
         }
     }
     let mut summaries = Vec::new();
+    let mut bounds = Vec::new();
     let mut paths = String::new();
     for (name, grid, queries) in &cases {
         eprintln!("{name}: {} queries", queries.len());
-        summaries.extend(run_case(name, grid, queries, blend, args, &mut paths)?);
+        // What each query can keep: the desired clearance, or less where no route has it.
+        let widest = WidestRoute::new(grid, args.clearance);
+        let keep: Vec<f32> = queries
+            .iter()
+            .map(|&(s, g)| widest.clearance(s, g).min(args.clearance))
+            .collect();
+        let (rows, exact) = run_case(name, grid, queries, &keep, blend, args, &mut paths)?;
+        summaries.extend(rows);
+        bounds.push(bound_case(name, grid, queries, &keep, &exact)?);
     }
     let file = args.out.join("paths.jsonl");
     std::fs::write(&file, paths).with_context(|| format!("cannot write {}", file.display()))?;
-    report(args, &summaries)
+    report(args, &summaries)?;
+    report_bounds(args, &bounds)
+}
+
+/// The clearance bound of each query of a map, keeping `keep`, against its any-angle
+/// length `exact`.
+fn bound_case(
+    name: &str,
+    grid: &GridBuf,
+    queries: &[(Cell, Cell)],
+    keep: &[f32],
+    exact: &[f64],
+) -> anyhow::Result<BoundSummary> {
+    // One fine grid per clearance kept (in thousandths).
+    let mut fine: std::collections::HashMap<u32, ClearanceBound> = Default::default();
+    let (mut ratios, mut possible) = (Vec::new(), 0);
+    for ((&(s, g), &len), &r) in queries.iter().zip(exact).zip(keep) {
+        let key = (r * 1000.0).floor() as u32;
+        if key == 0 {
+            continue;
+        }
+        let bound = match fine.entry(key) {
+            std::collections::hash_map::Entry::Occupied(e) => e.into_mut(),
+            std::collections::hash_map::Entry::Vacant(e) => {
+                e.insert(ClearanceBound::new(grid, key as f32 / 1000.0)?)
+            }
+        };
+        if let Some(b) = bound.length(s, g)? {
+            possible += 1;
+            ratios.push(b / len);
+        }
+    }
+    Ok(BoundSummary {
+        map: name.to_string(),
+        queries: queries.len(),
+        possible,
+        mean_ratio: mean_std(&ratios).0,
+        max_ratio: ratios.iter().copied().fold(f64::NAN, f64::max),
+        over_3pct: ratios.iter().filter(|&&r| r > 1.03).count(),
+    })
+}
+
+fn report_bounds(args: &SafetyArgs, bounds: &[BoundSummary]) -> anyhow::Result<()> {
+    let header = [
+        "map",
+        "keep possible",
+        "mean bound/anyangle",
+        "max bound/anyangle",
+        "bound over 1.03",
+    ];
+    let rows: Vec<Vec<String>> = bounds
+        .iter()
+        .map(|b| {
+            vec![
+                b.map.clone(),
+                format!("{}/{}", b.possible, b.queries),
+                fmt(b.mean_ratio, 4),
+                fmt(b.max_ratio, 4),
+                format!("{}/{}", b.over_3pct, b.possible),
+            ]
+        })
+        .collect();
+    print_table(
+        &format!(
+            "Lower bound on the length of a path keeping {} cells (or the widest route's clearance)",
+            args.clearance
+        ),
+        &header,
+        &rows,
+    );
+    write_csv(&args.out.join("bound.csv"), &header, &rows)?;
+    write_json(&args.out.join("bound.json"), &bounds)
 }
 
 fn run_case(
     name: &str,
     grid: &GridBuf,
     queries: &[(Cell, Cell)],
+    keep: &[f32],
     blend: Blend,
     args: &SafetyArgs,
     paths: &mut String,
-) -> anyhow::Result<Vec<Summary>> {
+) -> anyhow::Result<(Vec<Summary>, Vec<f64>)> {
     let mut planner = HostPlanner::new();
     planner.prepare(grid.view()).map_err(anyhow::Error::msg)?;
     let mut out: Box<Path<65536>> = Box::new(Path::new());
@@ -214,11 +316,7 @@ fn run_case(
             ratios.push(outcome.length as f64 / exact_len[k]);
             let c = path::clearance(grid.view(), &out, cap) as f64;
             min_clear = min_clear.min(c);
-            let ends = [s, g]
-                .map(|e| point_clearance(grid.view(), e.center(), cap))
-                .into_iter()
-                .fold(args.clearance, f32::min);
-            if c >= ends as f64 - 1e-3 {
+            if c >= keep[k] as f64 - 1e-3 {
                 kept += 1;
             }
             shares.push(share_within(grid.view(), &out, args.clearance) as f64);
@@ -255,7 +353,7 @@ fn run_case(
         (picture.start, picture.goal) = (Some(s.center()), Some(g.center()));
         picture.save_png(&args.out.join(format!("{name}-paths.png")))?;
     }
-    Ok(summaries)
+    Ok((summaries, exact_len))
 }
 
 fn report(args: &SafetyArgs, summaries: &[Summary]) -> anyhow::Result<()> {
