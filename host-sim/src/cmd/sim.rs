@@ -380,6 +380,13 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
     robot.check().map_err(|e| bad(e.to_string()))?;
     let safety = args.safety.safety().map_err(|e| bad(e.to_string()))?;
     let mut rng = Xoshiro256PlusPlus::seed_from_u64(args.seed);
+    let k = 1.0 / mpc;
+    let (dwa, drive) = if declared {
+        (safety.apply(robot.dwa(k), k), robot.drive(k))
+    } else {
+        // A cell counts as a metre: the defaults, with the robot's figures.
+        (safety.apply(robot.dwa(1.0), 1.0), robot.drive(1.0))
+    };
     let (start, goal) = match (&args.start, &args.goal) {
         (Some(s), Some(g)) => {
             let resolve = |text: &str, which: &str| -> anyhow::Result<Cell> {
@@ -398,7 +405,15 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
         _ => {
             let cells: Vec<Cell> = stations.iter().map(|s| s.0).collect();
             let gap = 8.0_f32.max(2.0 / mpc);
-            site.random_pair(&mut rng, &cells, gap).ok_or_else(|| {
+            // Random ends keep the margin too (on the planning map: beyond the footprint
+            // where it is inflated by the radius).
+            let footprint = if site.inflated.is_some() {
+                0.0
+            } else {
+                dwa.radius
+            };
+            let keep = footprint + dwa.margin;
+            site.random_pair(&mut rng, &cells, gap, keep).ok_or_else(|| {
                 bad(format!(
                     "{name}: no two free cells {gap} cells apart in one region of the inflated map"
                 ))
@@ -406,13 +421,6 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
         }
     };
     let theta = (rng.next_u32() % 8) as f32 * std::f32::consts::FRAC_PI_4;
-    let k = 1.0 / mpc;
-    let (dwa, drive) = if declared {
-        (safety.apply(robot.dwa(k), k), robot.drive(k))
-    } else {
-        // A cell counts as a metre: the defaults, with the robot's figures.
-        (safety.apply(robot.dwa(1.0), 1.0), robot.drive(1.0))
-    };
     let spec = MissionSpec {
         name: name.clone(),
         grid: site.grid.clone(),

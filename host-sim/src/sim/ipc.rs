@@ -196,6 +196,9 @@ pub(crate) fn wire_request(
         r.params.iterations = request.params.iterations;
         r.params.stagnation = request.params.stagnation.unwrap_or(0);
         r.params.guide = wire::Guide::of(request.params.guide).code();
+        r.params.clearance = request.params.blend.clearance;
+        r.params.clearance_weight = request.params.blend.clearance_weight;
+        r.params.turn_weight = request.params.blend.turn_weight;
     }
     Ok(r)
 }

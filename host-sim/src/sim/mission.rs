@@ -8,7 +8,7 @@ use super::world::{Agent, Kind, World};
 use planner_core::dwa::{Dwa, DwaConfig, DwaState, Event};
 use planner_core::geometry::{Cell, Point, distance_to_polyline, point_clearance};
 use planner_core::grid::GridBuf;
-use planner_core::planner::{PlanParams, PlannerKind};
+use planner_core::planner::{Blend, PlanParams, PlannerKind};
 
 /// Everything that defines a mission.
 #[derive(Clone)]
@@ -256,17 +256,39 @@ pub fn run_with_progress(
         trajectory: Vec::new(),
         agents: Vec::new(),
     };
-    let request = |start: Cell, seed: u64| GlobalPlanRequest {
+    let request = |start: Cell, seed: u64, params: PlanParams| GlobalPlanRequest {
         start,
         goal: spec.goal,
         algo: spec.algo,
-        params: spec.params,
+        params,
         seed,
+    };
+    // With a safety margin the first plan keeps the footprint and margin off the shelves by
+    // itself (the blended objective). Replans around standing obstacles stay by length: the
+    // blended path turns square at aisle mouths, which DWA with a margin could not enter
+    // (scenario parked-robot-replan).
+    // Clearance on the planning map: on a map inflated by the radius, beyond the footprint.
+    let footprint = if spec.plan_grid.is_some() {
+        0.0
+    } else {
+        spec.dwa.radius
+    };
+    let first_params = if spec.dwa.margin > 0.0 && spec.params.blend.is_length() {
+        PlanParams {
+            blend: Blend {
+                clearance: footprint + spec.dwa.margin + 0.05 * k,
+                clearance_weight: 16.0,
+                turn_weight: 1.0,
+            },
+            ..spec.params
+        }
+    } else {
+        spec.params
     };
     let start_cell = spec.start.position().cell(grid).unwrap_or_default();
     let first = planner
         .set_map(plan_grid)
-        .and_then(|()| planner.plan(&request(start_cell, spec.seed)));
+        .and_then(|()| planner.plan(&request(start_cell, spec.seed, first_params)));
     let mut path = match first {
         Ok(mut p) => {
             p.points = pathfit::fit(plan_grid, &p.points, &fit);
@@ -381,7 +403,7 @@ pub fn run_with_progress(
                 replan_seed = replan_seed.wrapping_add(0x9E37_79B9_7F4A_7C15);
                 let planned = planner
                     .set_map(tmp.view())
-                    .and_then(|()| planner.plan(&request(from, replan_seed)));
+                    .and_then(|()| planner.plan(&request(from, replan_seed, spec.params)));
                 on_temp_map = true;
                 if let Ok(mut p) = planned {
                     // Start the new path at the robot, not at its cell centre, and keep it

@@ -3,7 +3,7 @@
 //! starts and goals checked against them (each failure its own named error) or drawn at
 //! random within one connected region of the inflated map.
 
-use planner_core::geometry::Cell;
+use planner_core::geometry::{Cell, point_clearance};
 use planner_core::grid::{GridBuf, GridRef};
 use planner_core::search::connectivity::{self, BLOCKED};
 use planner_ipc::jsonl::{self, ErrorLine};
@@ -90,12 +90,14 @@ impl Site {
     }
 
     /// A start and a goal at least `min_gap` cells apart, free on the inflated map and in its
-    /// largest connected region; `stations` (when not empty) are drawn half of the time.
+    /// largest connected region, clear of obstacles by `keep` cells where such cells are
+    /// found; `stations` (when not empty) are drawn half of the time.
     pub fn random_pair(
         &self,
         rng: &mut Xoshiro256PlusPlus,
         stations: &[Cell],
         min_gap: f32,
+        keep: f32,
     ) -> Option<(Cell, Cell)> {
         let grid = self.plan_grid();
         let mut labels = vec![0u32; grid.cells()];
@@ -110,10 +112,18 @@ impl Site {
             if !members.is_empty() && rng.next_u32().is_multiple_of(2) {
                 return Some(members[(rng.next_u64() % members.len() as u64) as usize]);
             }
-            (0..10_000).find_map(|_| {
-                let i = (rng.next_u64() % labels.len() as u64) as usize;
-                (labels[i] == largest).then(|| grid.cell(i))
-            })
+            let mut any = None;
+            (0..10_000)
+                .find_map(|_| {
+                    let i = (rng.next_u64() % labels.len() as u64) as usize;
+                    if labels[i] != largest {
+                        return None;
+                    }
+                    let cell = grid.cell(i);
+                    any = any.or(Some(cell));
+                    (point_clearance(grid, cell.center(), keep) >= keep).then_some(cell)
+                })
+                .or(any)
         };
         (0..1000).find_map(|_| {
             let (a, b) = (draw(rng)?, draw(rng)?);
@@ -184,9 +194,25 @@ mod tests {
         let s = site(None);
         let mut rng = Xoshiro256PlusPlus::seed_from_u64(3);
         for _ in 0..50 {
-            let (a, b) = s.random_pair(&mut rng, &[Cell::new(8, 0)], 2.0).unwrap();
+            let (a, b) = s
+                .random_pair(&mut rng, &[Cell::new(8, 0)], 2.0, 0.0)
+                .unwrap();
             assert!(a.x < 6 && b.x < 6, "{a:?} {b:?}");
             assert!(a.center().distance(b.center()) >= 2.0);
+        }
+    }
+
+    /// Random ends keep the asked clearance where the region has cells that do.
+    #[test]
+    fn random_ends_keep_the_margin() {
+        let s = site(None);
+        let mut rng = Xoshiro256PlusPlus::seed_from_u64(5);
+        for _ in 0..50 {
+            let (a, b) = s.random_pair(&mut rng, &[], 1.0, 1.0).unwrap();
+            for c in [a, b] {
+                let clear = point_clearance(s.plan_grid(), c.center(), 1.0);
+                assert!(clear >= 1.0, "{c:?}: {clear}");
+            }
         }
     }
 }
