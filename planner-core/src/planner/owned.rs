@@ -80,6 +80,10 @@ pub struct HostPlanner {
     search_open: Vec<Node>,
 }
 
+/// Maps above this many cells plan blended without the Theta* guide candidate: its nodes
+/// (24 bytes a cell, 96 MiB here) and its unbounded search would outgrow the plan itself.
+pub const THETA_GUIDE_MAX_CELLS: usize = 1 << 22;
+
 /// First size of the any-angle open list (2.1 MB); a search that outgrows it is run again
 /// with twice the room, up to [`SEARCH_OPEN_MAX`].
 const SEARCH_OPEN: usize = 1 << 16;
@@ -186,14 +190,15 @@ impl HostPlanner {
         options: PlanOptions<'_>,
     ) -> Result<PlanReport, PlanError> {
         // A blended plan may prefer the Theta* route as its guide.
-        let theta: &mut [SearchNode] = if params.blend.is_length() {
-            &mut []
-        } else {
-            if self.theta_nodes.len() < self.cells {
-                self.theta_nodes = vec![SearchNode::EMPTY; self.cells];
-            }
-            &mut self.theta_nodes
-        };
+        let theta: &mut [SearchNode] =
+            if params.blend.is_length() || self.cells > THETA_GUIDE_MAX_CELLS {
+                &mut []
+            } else {
+                if self.theta_nodes.len() < self.cells {
+                    self.theta_nodes = vec![SearchNode::EMPTY; self.cells];
+                }
+                &mut self.theta_nodes
+            };
         let mut storage = PlanStorageMut {
             anyangle: Some(AnyAngleWorkspace {
                 mesh: self.mesh.mesh(),
