@@ -286,12 +286,39 @@ pub fn run_with_progress(
         spec.params
     };
     let start_cell = spec.start.position().cell(grid).unwrap_or_default();
-    let first = planner
-        .set_map(plan_grid)
-        .and_then(|()| planner.plan(&request(start_cell, spec.seed, first_params)));
+    // On a map inflated by the radius, the route is planned on it inflated by the margin as
+    // well, so that it takes only passages DWA drives with its margin (one narrower left the
+    // robot stuck on the AWS map); on the radius alone where that closes an end or the way.
+    let with_margin = match &spec.plan_grid {
+        Some(_) if spec.dwa.margin > 0.0 => {
+            spec.grid.inflated(spec.dwa.radius + spec.dwa.margin).ok()
+        }
+        _ => None,
+    }
+    .filter(|g| {
+        [start_cell, spec.goal]
+            .iter()
+            .all(|c| !g.view().is_blocked(c.x as isize, c.y as isize))
+    });
+    let mut route_grid = plan_grid;
+    let mut first = Err(PlanFailure::Unreachable);
+    for candidate in with_margin
+        .as_ref()
+        .map(GridBuf::view)
+        .into_iter()
+        .chain([plan_grid])
+    {
+        route_grid = candidate;
+        first = planner
+            .set_map(route_grid)
+            .and_then(|()| planner.plan(&request(start_cell, spec.seed, first_params)));
+        if first.is_ok() {
+            break;
+        }
+    }
     let mut path = match first {
         Ok(mut p) => {
-            p.points = pathfit::fit(plan_grid, &p.points, &fit);
+            p.points = pathfit::fit(route_grid, &p.points, &fit);
             p
         }
         Err(PlanFailure::Unreachable) => {
@@ -376,7 +403,7 @@ pub fn run_with_progress(
             // Mark the cells under nearby standing obstacles (and anything touching the
             // robot's way when stuck) as blocked on a copy of the planning map.
             let robot_cell = state.position().cell(grid);
-            let mut tmp = GridBuf::from_view(plan_grid);
+            let mut tmp = GridBuf::from_view(route_grid);
             for a in &world.agents {
                 let near = a.pos.distance(state.position()) < 8.0 * k;
                 if !near || (a.moving() && reason == "blocked") {
@@ -423,7 +450,7 @@ pub fn run_with_progress(
             }
         }
         if on_temp_map && t - last_replan > 5.0 {
-            let _ = planner.set_map(plan_grid);
+            let _ = planner.set_map(route_grid);
             on_temp_map = false;
         }
         let before = state.position();
