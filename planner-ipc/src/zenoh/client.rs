@@ -732,25 +732,26 @@ impl ZenohClient {
                     }
                 }
                 Ok(None) if Instant::now() >= until => {
-                    return Err(ZenohError::Timeout {
-                        request_id: request.request_id,
-                        waited: began.elapsed(),
-                        deadline,
-                        margin: self.config.margin,
-                    });
+                    return Err(self.timed_out(request, began.elapsed(), deadline));
                 }
                 Ok(None) => {
                     let alive = self.planners();
                     if !alive.contains(&planner) {
-                        return Err(ZenohError::PlannerLost {
-                            request_id: request.request_id,
-                            after: began.elapsed(),
-                            planners_left: alive.len(),
-                        });
+                        return Err(lost(request, began.elapsed(), alive.len()));
                     }
                 }
                 Err(e) => return Err(ZenohError::Zenoh(format!("answer subscriber: {e}"))),
             }
+        }
+    }
+
+    /// `Timeout` for `request` after `waited`, naming its deadline and this client's margin.
+    fn timed_out(&self, request: &PlanRequest, waited: Duration, deadline: Duration) -> ZenohError {
+        ZenohError::Timeout {
+            request_id: request.request_id,
+            waited,
+            deadline,
+            margin: self.config.margin,
         }
     }
 
@@ -804,40 +805,22 @@ impl ZenohClient {
                     return Ok(result);
                 }
                 Ok(None) if Instant::now() >= until => {
-                    return Err(ZenohError::Timeout {
-                        request_id: request.request_id,
-                        waited: began.elapsed(),
-                        deadline,
-                        margin: self.config.margin,
-                    });
+                    return Err(self.timed_out(request, began.elapsed(), deadline));
                 }
                 Ok(None) => {
                     // A query sent while its planner's link was closing may never end (seen
                     // with Zenoh 1.10.2): every planner alive at sending gone is a loss.
                     let alive = self.planners();
                     if !asked.iter().any(|zid| alive.contains(zid)) {
-                        return Err(ZenohError::PlannerLost {
-                            request_id: request.request_id,
-                            after: began.elapsed(),
-                            planners_left: alive.len(),
-                        });
+                        return Err(lost(request, began.elapsed(), alive.len()));
                     }
                 }
                 Err(_) => {
                     let after = began.elapsed();
                     if after >= wait {
-                        return Err(ZenohError::Timeout {
-                            request_id: request.request_id,
-                            waited: after,
-                            deadline,
-                            margin: self.config.margin,
-                        });
+                        return Err(self.timed_out(request, after, deadline));
                     }
-                    return Err(ZenohError::PlannerLost {
-                        request_id: request.request_id,
-                        after,
-                        planners_left: self.planners().len(),
-                    });
+                    return Err(lost(request, after, self.planners().len()));
                 }
             }
         }
@@ -1107,4 +1090,13 @@ fn first_request_id() -> u64 {
     x = (x ^ (x >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
     x = (x ^ (x >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
     (x ^ (x >> 31)) & !0xFFFF_FFFF | 1
+}
+
+/// `PlannerLost` for `request` after `after`, with how many planners are left.
+fn lost(request: &PlanRequest, after: Duration, planners_left: usize) -> ZenohError {
+    ZenohError::PlannerLost {
+        request_id: request.request_id,
+        after,
+        planners_left,
+    }
 }
