@@ -19,7 +19,7 @@ use std::sync::atomic::{AtomicU32, Ordering};
 use std::time::{Duration, Instant};
 
 /// Map id the simulator publishes under.
-const MAP_ID: u32 = 1;
+pub(crate) const MAP_ID: u32 = 1;
 
 /// A `planner-server` client implementing [`GlobalPlanner`].
 pub struct IpcPlanner {
@@ -203,6 +203,27 @@ pub(crate) fn wire_request(
     Ok(r)
 }
 
+/// The simulator's map `MAP_ID` at `version`, in cells (no world frame).
+pub(crate) fn map_meta(version: u32) -> MapMeta {
+    MapMeta {
+        map_id: MAP_ID,
+        version,
+        resolution: 1.0,
+        origin: [0.0, 0.0],
+    }
+}
+
+/// A service's answer as the simulator's planned path, planned in `time`.
+pub(crate) fn planned(ok: wire::PlanOk, time: Duration) -> PlannedPath {
+    PlannedPath {
+        points: ok.path,
+        length: ok.length,
+        history: Vec::new(),
+        evaluations: ok.evaluations as u64,
+        time,
+    }
+}
+
 fn failure(e: ClientError) -> PlanFailure {
     match e {
         ClientError::Plan(p) => p.into(),
@@ -218,13 +239,9 @@ impl GlobalPlanner for IpcPlanner {
 
     fn set_map(&mut self, grid: GridRef<'_>) -> Result<(), PlanFailure> {
         self.version += 1;
-        let meta = MapMeta {
-            map_id: MAP_ID,
-            version: self.version,
-            resolution: 1.0,
-            origin: [0.0, 0.0],
-        };
-        self.client.upload_map(meta, grid).map_err(failure)?;
+        self.client
+            .upload_map(map_meta(self.version), grid)
+            .map_err(failure)?;
         self.client
             .wait_for_map(MAP_ID, self.version, self.timeout)
             .map_err(failure)?;
@@ -235,13 +252,7 @@ impl GlobalPlanner for IpcPlanner {
         let r = wire_request(request, (MAP_ID, self.version))?;
         let t0 = Instant::now();
         let ok = self.client.plan(&r, self.timeout).map_err(failure)?;
-        Ok(PlannedPath {
-            points: ok.path,
-            length: ok.length,
-            history: Vec::new(),
-            evaluations: ok.evaluations as u64,
-            time: t0.elapsed(),
-        })
+        Ok(planned(ok, t0.elapsed()))
     }
 }
 

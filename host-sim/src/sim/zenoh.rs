@@ -6,17 +6,13 @@
 //! free ports of 127.0.0.1 and a prefix of its own), like [`super::ipc::IpcPlanner`]: the
 //! child stops when the planner is dropped or this process dies (its standard input closes).
 
-use super::ipc::{private_prefix, wire_request};
+use super::ipc::{MAP_ID, map_meta, planned, private_prefix, wire_request};
 use super::planner::{GlobalPlanRequest, GlobalPlanner, PlanFailure, PlannedPath};
 use planner_core::grid::GridRef;
-use planner_ipc::wire::MapMeta;
 use planner_ipc::zenoh::config::{ONE_WORKER_RUNTIME, RUNTIME_ENV, free_port_pair};
 use planner_ipc::zenoh::{ClientConfig, ZenohClient, ZenohError, ZenohOptions};
 use std::process::{Child, ChildStdin, Command, Stdio};
 use std::time::{Duration, Instant};
-
-/// Map id the simulator publishes under.
-const MAP_ID: u32 = 1;
 
 /// The endpoint `--planner zenoh` looks for a planner at before starting its own.
 pub const DEFAULT_ENDPOINT: &str = "tcp/127.0.0.1:7447";
@@ -196,13 +192,9 @@ impl GlobalPlanner for ZenohPlanner {
 
     fn set_map(&mut self, grid: GridRef<'_>) -> Result<(), PlanFailure> {
         self.version += 1;
-        let meta = MapMeta {
-            map_id: MAP_ID,
-            version: self.version,
-            resolution: 1.0,
-            origin: [0.0, 0.0],
-        };
-        self.client.upload_map(meta, grid).map_err(failure)?;
+        self.client
+            .upload_map(map_meta(self.version), grid)
+            .map_err(failure)?;
         self.client
             .wait_for_map(MAP_ID, self.version, self.timeout)
             .map_err(failure)?;
@@ -217,12 +209,6 @@ impl GlobalPlanner for ZenohPlanner {
             .plan_retrying(&r, self.timeout)
             .map_err(failure)?;
         let ok = result.outcome.map_err(|f| failure(f.into()))?;
-        Ok(PlannedPath {
-            points: ok.path,
-            length: ok.length,
-            history: Vec::new(),
-            evaluations: ok.evaluations as u64,
-            time: t0.elapsed(),
-        })
+        Ok(planned(ok, t0.elapsed()))
     }
 }
