@@ -1,6 +1,7 @@
 //! Clearance: the distance from a segment or a point to the nearest blocked cell (cells off
 //! the map count as blocked).
 
+use super::polyline::project;
 use super::types::Point;
 use crate::grid::GridRef;
 use crate::math::{at_least_zero, lesser, sqrt};
@@ -54,7 +55,7 @@ fn segment_square_distance(a: Point, b: Point, c: Point) -> f32 {
     let corners = [(-0.5, -0.5), (0.5, -0.5), (0.5, 0.5), (-0.5, 0.5)];
     let mut best = point_square_distance(a, c).min(point_square_distance(b, c));
     for (ox, oy) in corners {
-        best = best.min(point_segment_distance(Point::new(c.x + ox, c.y + oy), a, b));
+        best = best.min(project(Point::new(c.x + ox, c.y + oy), a, b).0);
     }
     best
 }
@@ -63,17 +64,6 @@ fn point_square_distance(p: Point, c: Point) -> f32 {
     let gx = ((p.x - c.x).abs() - 0.5).max(0.0);
     let gy = ((p.y - c.y).abs() - 0.5).max(0.0);
     crate::math::sqrt(gx * gx + gy * gy)
-}
-
-fn point_segment_distance(p: Point, a: Point, b: Point) -> f32 {
-    let (dx, dy) = (b.x - a.x, b.y - a.y);
-    let len2 = dx * dx + dy * dy;
-    let t = if len2 > 0.0 {
-        (((p.x - a.x) * dx + (p.y - a.y) * dy) / len2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    p.distance(Point::new(a.x + t * dx, a.y + t * dy))
 }
 
 /// Liang-Barsky clip of segment `ab` against the closed square centred on `c`.

@@ -6,7 +6,7 @@ use super::types::Point;
 use crate::math::{clamp, sqrt};
 
 /// Distance from `p` to segment `ab` and the projection parameter in `[0, 1]`.
-fn project(p: Point, a: Point, b: Point) -> (f32, f32) {
+pub(super) fn project(p: Point, a: Point, b: Point) -> (f32, f32) {
     let (dx, dy) = (b.x - a.x, b.y - a.y);
     let len2 = dx * dx + dy * dy;
     let t = if len2 > 0.0 {
