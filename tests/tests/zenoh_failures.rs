@@ -8,31 +8,14 @@ mod common;
 
 use common::*;
 use planner_core::grid::GridBuf;
-use planner_ipc::client::parse_map;
-use planner_ipc::wire::{Algorithm, MapMeta, PlanParams, PlanRequest};
-use planner_ipc::zenoh::{Mode, RequestPath, ZenohClient, ZenohError};
+use planner_ipc::wire::{Algorithm, PlanParams, PlanRequest};
+use planner_ipc::zenoh::{Mode, RequestPath, ZenohError};
 use std::collections::BTreeMap;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::{Duration, Instant};
 
-const WAREHOUSE: &str = "warehouse-10-20-10-2-1.map";
 const T: Duration = Duration::from_secs(10);
-
-fn meta(map_id: u32, version: u32) -> MapMeta {
-    MapMeta {
-        map_id,
-        version,
-        resolution: 1.0,
-        origin: [0.0, 0.0],
-    }
-}
-
-fn upload_warehouse(client: &mut ZenohClient) {
-    let grid = parse_map(&std::fs::read(data(WAREHOUSE)).unwrap()).unwrap();
-    client.upload_map(meta(1, 1), grid.view()).unwrap();
-    client.wait_for_map(1, 1, T).unwrap();
-}
 
 /// Counts of errors by name.
 fn tally(errors: &[ZenohError]) -> BTreeMap<&'static str, usize> {
@@ -63,7 +46,7 @@ fn router_restarted_mid_run() {
         let _planner = start_zenoh_server(&p, &planner_args);
         let mut c = zclient(&p, mode, std::slice::from_ref(&router_ep));
         wait_for_planner(&mut c);
-        upload_warehouse(&mut c);
+        upload_warehouse(&mut c, 1);
         let good = PlanRequest::new((1, 1), [143, 57], [10, 16], Algorithm::AStar);
         let expected = c.plan(&good, T).unwrap();
 
@@ -141,7 +124,7 @@ fn planner_killed(path: RequestPath) {
     let planner = start_zenoh_server(&p, &["--listen", &ep]);
     let mut c = zclient_on(&p, Mode::Peer, std::slice::from_ref(&ep), path);
     wait_for_planner(&mut c);
-    upload_warehouse(&mut c);
+    upload_warehouse(&mut c, 1);
     let mut slow = PlanRequest::new((1, 1), [143, 57], [10, 16], Algorithm::Tclhho);
     slow.params = PlanParams {
         population: 60,

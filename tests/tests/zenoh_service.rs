@@ -10,22 +10,12 @@ use common::*;
 use planner_core::grid::GridBuf;
 use planner_ipc::client::{MapTooLarge, Refusal, parse_map};
 use planner_ipc::engine::{Engine, Scratch};
-use planner_ipc::wire::{Algorithm, DEFAULT_MAX_CELLS, MapMeta, MapMsg, PlanRequest, pack_map};
+use planner_ipc::wire::{Algorithm, DEFAULT_MAX_CELLS, MapMsg, PlanRequest, pack_map};
 use planner_ipc::zenoh::{Mode, RequestPath, ZenohError};
 use std::process::Command;
 use std::time::{Duration, Instant};
 
-const WAREHOUSE: &str = "warehouse-10-20-10-2-1.map";
 const T: Duration = Duration::from_secs(10);
-
-fn meta(map_id: u32, version: u32) -> MapMeta {
-    MapMeta {
-        map_id,
-        version,
-        resolution: 1.0,
-        origin: [0.0, 0.0],
-    }
-}
 
 /// Requests on the warehouse map, each planner kind, answered by the engine in this
 /// process; compared with what came over Zenoh.
@@ -49,16 +39,6 @@ fn check_against_engine(client: &mut planner_ipc::zenoh::ZenohClient, map: (u32,
         let want = local.handle(&mut scratch, &request, &mut || false);
         assert_eq!(got.outcome, want.outcome, "{algo:?} {start:?} -> {goal:?}");
     }
-}
-
-fn upload_warehouse(client: &mut planner_ipc::zenoh::ZenohClient, map_id: u32) {
-    let grid = parse_map(&std::fs::read(data(WAREHOUSE)).unwrap()).unwrap();
-    client.upload_map(meta(map_id, 1), grid.view()).unwrap();
-    let facts = client.wait_for_map(map_id, 1, T).unwrap();
-    assert_eq!(
-        (facts.width, facts.height),
-        (grid.width() as u32, grid.height() as u32)
-    );
 }
 
 /// Runs `planner-client` and returns its JSON lines (it must succeed).

@@ -266,3 +266,30 @@ pub fn wait_for_planner(client: &mut planner_ipc::zenoh::ZenohClient) {
         std::thread::sleep(Duration::from_millis(20));
     }
 }
+
+/// The Moving AI warehouse the Zenoh tests plan on.
+pub const WAREHOUSE: &str = "warehouse-10-20-10-2-1.map";
+
+/// Map metadata in cells (no world frame).
+pub fn meta(map_id: u32, version: u32) -> planner_ipc::wire::MapMeta {
+    planner_ipc::wire::MapMeta {
+        map_id,
+        version,
+        resolution: 1.0,
+        origin: [0.0, 0.0],
+    }
+}
+
+/// Uploads [`WAREHOUSE`] over Zenoh as map `map_id` version 1 and waits until a planner
+/// has it, at its size.
+pub fn upload_warehouse(client: &mut planner_ipc::zenoh::ZenohClient, map_id: u32) {
+    let grid = planner_ipc::client::parse_map(&std::fs::read(data(WAREHOUSE)).unwrap()).unwrap();
+    client.upload_map(meta(map_id, 1), grid.view()).unwrap();
+    let facts = client
+        .wait_for_map(map_id, 1, Duration::from_secs(10))
+        .unwrap();
+    assert_eq!(
+        (facts.width, facts.height),
+        (grid.width() as u32, grid.height() as u32)
+    );
+}
