@@ -644,6 +644,21 @@ fn uds_call<S: Read + Write>(
     uds_recv(stream, buf)
 }
 
+/// The baseline server's answer to one socket request, as planner-server would give it
+/// (a map's time is that of building the grid from the received frame).
+fn answer(engine: &Engine, scratch: &mut Scratch, request: UdsRequest) -> UdsResponse {
+    match request {
+        UdsRequest::Map(msg) => {
+            let began = Instant::now();
+            let grid = msg.to_grid(engine.store.max_cells());
+            let decode_us = began.elapsed().as_secs_f32() * 1e6;
+            engine.store.update_decoded(msg.meta, grid, decode_us);
+            UdsResponse::MapTaken(decode_us)
+        }
+        UdsRequest::Plan(req) => UdsResponse::Plan(engine.handle(scratch, &req, &mut || false)),
+    }
+}
+
 fn uds_send<T: Serialize, S: Write>(
     stream: &mut S,
     value: &T,
@@ -706,19 +721,7 @@ fn uds_peer(path: &Path, busy: bool) -> anyhow::Result<()> {
             Ok(r) => r,
             Err(_) => return Ok(()), // client closed
         };
-        let reply = match request {
-            UdsRequest::Map(msg) => {
-                // As planner-server: the time to build the grid from the received frame.
-                let began = Instant::now();
-                let grid = msg.to_grid(engine.store.max_cells());
-                let decode_us = began.elapsed().as_secs_f32() * 1e6;
-                engine.store.update_decoded(msg.meta, grid, decode_us);
-                UdsResponse::MapTaken(decode_us)
-            }
-            UdsRequest::Plan(req) => {
-                UdsResponse::Plan(engine.handle(&mut scratch, &req, &mut || false))
-            }
-        };
+        let reply = answer(&engine, &mut scratch, request);
         uds_send(&mut stream, &reply, &mut buf)?;
     }
 }

@@ -25,8 +25,8 @@
 //!   run in the client process: lost (no answer) and mismatched (another answer) must be 0.
 
 use super::{
-    Kill, MapMsgRef, UDS_BUFFER, UdsRequest, UdsRequestRef, UdsResponse, percentile, uds_call,
-    uds_recv, uds_send, warehouse,
+    Kill, MapMsgRef, UDS_BUFFER, UdsRequest, UdsRequestRef, UdsResponse, answer, percentile,
+    uds_call, uds_recv, uds_send, warehouse,
 };
 use ::zenoh::Wait;
 use anyhow::Context;
@@ -233,18 +233,7 @@ fn peer(tcp_port: u16, zenoh: &str, prefix: &str, spin_us: u64) -> anyhow::Resul
         let mut scratch = Scratch::default();
         let mut buf = vec![0u8; UDS_BUFFER];
         while let Ok(request) = uds_recv::<UdsRequest, _>(&mut stream, &mut buf) {
-            let reply = match request {
-                UdsRequest::Map(msg) => {
-                    let began = Instant::now();
-                    let grid = msg.to_grid(engine.store.max_cells());
-                    let decode_us = began.elapsed().as_secs_f32() * 1e6;
-                    engine.store.update_decoded(msg.meta, grid, decode_us);
-                    UdsResponse::MapTaken(decode_us)
-                }
-                UdsRequest::Plan(r) => {
-                    UdsResponse::Plan(engine.handle(&mut scratch, &r, &mut || false))
-                }
-            };
+            let reply = answer(&engine, &mut scratch, request);
             if uds_send(&mut stream, &reply, &mut buf).is_err() {
                 break;
             }
